@@ -1,0 +1,39 @@
+// Scene geometry made concrete: meshes in world space, convex media as polyhedra, particles as tetrahedra, and the
+// checks that polygons from the user are planar and convex.
+#pragma once
+
+#include "tyndall/scene.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace tyndall {
+
+// The world-space triangles of a mesh (built-in plane/box/sphere, or an OBJ file resolved against projectDir).
+// Throws InputError naming the mesh (field `meshes[i]` is the caller's to add) for a missing or empty OBJ file.
+TriangleMesh buildMesh(const Mesh& mesh, const std::string& projectDir);
+
+// A bounded convex polyhedron as the intersection of half-spaces: its faces as convex polygons (counter-clockwise seen
+// from outside). Throws InputError when the intersection is empty, flat or unbounded.
+struct ConvexPolyhedron {
+    std::vector<HalfSpace> planes;            // normalised
+    std::vector<std::vector<Vec3>> faces;     // one polygon per plane that bounds the solid
+    Vec3 boundsMin{0.0}, boundsMax{0.0};
+    double volume = 0.0;                      // m^3
+};
+ConvexPolyhedron makeConvexPolyhedron(const std::vector<HalfSpace>& planes);
+// The six half-spaces of an oriented box.
+std::vector<HalfSpace> boxHalfSpaces(const OrientedBox& box);
+
+// The four vertices of a particle's regular tetrahedron, each at distance `scale` from the centre.
+std::array<Vec3, 4> tetrahedronVertices(const Particle& particle);
+
+// Checks for a user polygon (area lights, gobos): >= 3 vertices, non-zero area, planar within a relative tolerance,
+// convex and without repeated vertices. Returns "" when valid, otherwise the reason in words.
+std::string polygonProblem(const std::vector<Vec3>& vertices);
+// Unit normal by the right-hand rule (counter-clockwise seen from the front) and area of a valid polygon.
+Vec3 polygonNormal(const std::vector<Vec3>& vertices);
+double polygonArea(const std::vector<Vec3>& vertices);
+
+}  // namespace tyndall

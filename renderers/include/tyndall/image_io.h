@@ -1,0 +1,24 @@
+// Reading and writing images through OpenImageIO: EXR (all float channels and the metadata) and PNG (exposure, then
+// sRGB encoding, clamped to [0, 1]).
+#pragma once
+
+#include "tyndall/image.h"
+
+#include <string>
+
+namespace tyndall {
+
+// Writes by extension (.exr or .png), atomically: a temporary file beside the target, then rename, so that a failed
+// write leaves no partial file. Throws InputError naming the path when it cannot be written.
+// PNG: RGB only, multiplied by 2^exposure, sRGB-encoded, 8 bits.
+void writeImage(const Image& image, const std::string& path, double exposure = 0.0);
+
+// Reads an EXR (every channel, every string metadata attribute) or any format OIIO reads (as float). Throws InputError
+// naming the path for a missing or unreadable file.
+Image readImage(const std::string& path);
+
+// Linear -> display: 2^exposure, then the sRGB transfer function, clamped to [0, 1].
+float srgbEncode(float linear);
+float tonemap(float linear, double exposure);
+
+}  // namespace tyndall
