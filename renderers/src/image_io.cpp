@@ -1,1 +1,260 @@
-// placeholder, being written
+#include "tyndall/image_io.h"
+
+#include "tyndall/error.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <random>
+#include <set>
+#include <sstream>
+#include <system_error>
+#include <vector>
+
+namespace tyndall {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Metadata keys are stored in EXR headers as "tyndall:KEY", so that a key such as "compression" cannot collide with a
+// standard attribute, and so that reading keeps our entries apart from what OIIO and other tools add.
+constexpr std::string_view kMetadataPrefix = "tyndall:";
+// OIIO's EXR writer drops empty string attributes, so an empty value is recorded as "tyndallEmpty:KEY" instead.
+constexpr std::string_view kEmptyMetadataPrefix = "tyndallEmpty:";
+
+// OpenEXR stores channels sorted by name and OIIO reorders them on reading; this attribute restores our order.
+constexpr const char* kChannelOrderAttribute = "tyndallChannelOrder";
+
+enum class Format { Exr, Png };
+
+std::string lowercase(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+}
+
+InputError writeError(const std::string& path, const std::string& reason) {
+    return InputError(InputLocation{.file = path}, "cannot write image: " + reason);
+}
+
+InputError readError(const std::string& path, const std::string& reason) {
+    return InputError(InputLocation{.file = path}, "cannot read image: " + reason);
+}
+
+// OIIO keeps a per-thread error message besides the one on each ImageInput/ImageOutput; take whichever is set.
+std::string oiioError(const std::string& local) {
+    std::string global = OIIO::geterror();
+    std::string message = !local.empty() ? local : global;
+    return message.empty() ? std::string("unknown OpenImageIO error") : message;
+}
+
+Format formatOf(const std::string& path) {
+    const std::string ext = lowercase(fs::path(path).extension().string());
+    if (ext == ".exr") return Format::Exr;
+    if (ext == ".png") return Format::Png;
+    throw InputError(InputLocation{.file = path}, "unsupported image extension \"" +
+                                                      fs::path(path).extension().string() + "\"; allowed: .exr, .png");
+}
+
+// "dir/out.exr" -> "dir/out.tmp1a2b3c4d.exr": same directory (so rename is atomic), real extension last (so OIIO picks
+// the format from it), and a random part so that concurrent writers do not share a temporary.
+fs::path temporaryPathFor(const fs::path& target) {
+    static std::atomic<std::uint64_t> counter{0};
+    std::random_device device;
+    for (int attempt = 0; attempt < 16; ++attempt) {
+        const std::uint64_t salt = (static_cast<std::uint64_t>(device()) << 32) ^ device() ^ counter.fetch_add(1);
+        std::ostringstream name;
+        name << target.stem().string() << ".tmp" << std::hex << salt << target.extension().string();
+        fs::path candidate = target.parent_path() / name.str();
+        std::error_code ec;
+        if (!fs::exists(candidate, ec)) return candidate;
+    }
+    throw writeError(target.string(), "could not choose a temporary file name");
+}
+
+// Removes the temporary file unless the write was committed by renaming it.
+class TemporaryFile {
+public:
+    explicit TemporaryFile(fs::path path) : path_(std::move(path)) {}
+    TemporaryFile(const TemporaryFile&) = delete;
+    TemporaryFile& operator=(const TemporaryFile&) = delete;
+    ~TemporaryFile() {
+        if (!committed_) {
+            std::error_code ec;
+            fs::remove(path_, ec);
+        }
+    }
+    const fs::path& path() const { return path_; }
+    void commit() { committed_ = true; }
+
+private:
+    fs::path path_;
+    bool committed_ = false;
+};
+
+OIIO::ImageSpec exrSpec(const Image& image) {
+    OIIO::ImageSpec spec(image.width(), image.height(), image.channelCount(), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = image.channels();
+    spec.alpha_channel = -1;  // an "A" channel, if any, is data like any other: no premultiplication assumptions
+    spec.attribute("compression", "zip");
+    std::string order;
+    for (const std::string& name : image.channels())
+        order += (order.empty() ? "" : ",") + name;
+    spec.attribute(kChannelOrderAttribute, order);
+    for (const auto& [key, value] : image.metadata) {
+        if (value.empty()) {
+            spec.attribute(std::string(kEmptyMetadataPrefix) + key, "1");
+        } else {
+            spec.attribute(std::string(kMetadataPrefix) + key, value);
+        }
+    }
+    return spec;
+}
+
+std::vector<std::uint8_t> pngPixels(const Image& image, double exposure, const std::string& path) {
+    Image rgb;
+    try {
+        rgb = image.select({"R", "G", "B"});
+    } catch (const InputError& e) {
+        throw writeError(path, "a PNG needs channels R, G, B (" + e.message() + ")");
+    }
+    std::vector<std::uint8_t> bytes(rgb.size());
+    for (std::size_t i = 0; i < bytes.size(); ++i) {
+        bytes[i] = static_cast<std::uint8_t>(std::lround(tonemap(rgb.data()[i], exposure) * 255.0f));
+    }
+    return bytes;
+}
+
+// For each channel in the order it was written (when the file records it), its index among the channels read back.
+// Empty when the file does not record the order or the record does not match.
+std::vector<int> channelPermutation(const std::vector<std::string>& read, const std::string& writtenOrder) {
+    std::vector<std::string> written;
+    std::stringstream list(writtenOrder);
+    for (std::string name; std::getline(list, name, ',');)
+        written.push_back(name);
+    if (written.size() != read.size()) return {};
+    std::vector<int> permutation;
+    for (const std::string& name : written) {
+        const auto it = std::find(read.begin(), read.end(), name);
+        if (it == read.end()) return {};
+        permutation.push_back(static_cast<int>(it - read.begin()));
+    }
+    return permutation;
+}
+
+}  // namespace
+
+void writeImage(const Image& image, const std::string& path, double exposure) {
+    const Format format = formatOf(path);
+    if (image.empty() || image.channelCount() == 0) throw writeError(path, "the image is empty");
+
+    const fs::path target(path);
+    const fs::path directory = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(directory, ec)) {
+        throw writeError(path, "directory \"" + directory.string() + "\" does not exist");
+    }
+
+    // Build the pixels before creating any file, so that bad input leaves nothing behind.
+    OIIO::ImageSpec spec;
+    std::vector<std::uint8_t> bytes;
+    if (format == Format::Exr) {
+        spec = exrSpec(image);
+    } else {
+        bytes = pngPixels(image, exposure, path);
+        spec = OIIO::ImageSpec(image.width(), image.height(), 3, OIIO::TypeDesc::UINT8);
+        spec.attribute("oiio:ColorSpace", "sRGB");
+    }
+
+    TemporaryFile temporary(temporaryPathFor(target));
+    {
+        std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(temporary.path().string());
+        if (!out) throw writeError(path, oiioError(""));
+        if (!out->open(temporary.path().string(), spec)) throw writeError(path, oiioError(out->geterror()));
+        const bool written = format == Format::Exr ? out->write_image(OIIO::TypeDesc::FLOAT, image.data())
+                                                   : out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+        if (!written) {
+            const std::string reason = oiioError(out->geterror());
+            out->close();
+            throw writeError(path, reason);
+        }
+        if (!out->close()) throw writeError(path, oiioError(out->geterror()));
+    }
+
+    fs::rename(temporary.path(), target, ec);
+    if (ec) throw writeError(path, "renaming the temporary file failed: " + ec.message());
+    temporary.commit();
+}
+
+Image readImage(const std::string& path) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw readError(path, "no such file");
+    if (!fs::is_regular_file(path, ec)) throw readError(path, "not a regular file");
+
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    if (!in) throw readError(path, oiioError(""));
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.deep) throw readError(path, "deep images are not supported");
+    if (spec.depth > 1) throw readError(path, "volume images are not supported");
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw readError(path, "the image is empty");
+
+    std::vector<std::string> names = spec.channelnames;
+    names.resize(spec.nchannels);
+    std::set<std::string> seen;
+    for (std::size_t c = 0; c < names.size(); ++c) {
+        if (names[c].empty()) names[c] = "channel" + std::to_string(c);
+        if (!seen.insert(names[c]).second) throw readError(path, "duplicate channel \"" + names[c] + "\"");
+    }
+
+    // The data window of the first subimage, at full resolution. Every channel is converted to float.
+    Image image(spec.width, spec.height, names);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data())) {
+        throw readError(path, oiioError(in->geterror()));
+    }
+
+    const std::vector<int> permutation = channelPermutation(names, spec.get_string_attribute(kChannelOrderAttribute));
+    if (!permutation.empty() && !std::is_sorted(permutation.begin(), permutation.end())) {
+        std::vector<std::string> ordered;
+        for (int c : permutation)
+            ordered.push_back(names[c]);
+        image = image.select(ordered);
+    }
+
+    for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
+        const std::string name = attribute.name().string();
+        if (attribute.type() != OIIO::TypeDesc::STRING) continue;
+        if (name.starts_with(kMetadataPrefix)) {
+            image.metadata[name.substr(kMetadataPrefix.size())] = attribute.get_string();
+        } else if (name.starts_with(kEmptyMetadataPrefix)) {
+            image.metadata[name.substr(kEmptyMetadataPrefix.size())] = "";
+        }
+    }
+    in->close();
+    return image;
+}
+
+// Both evaluated in double, so that 1 maps to exactly 1 (in float, 1.055f - 0.055f is not 1).
+float srgbEncode(float linear) {
+    if (std::isnan(linear)) return 0.0f;
+    const double x = linear;
+    return static_cast<float>(x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055);
+}
+
+float srgbDecode(float encoded) {
+    if (std::isnan(encoded)) return 0.0f;
+    const double v = encoded;
+    return static_cast<float>(v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
+}
+
+float tonemap(float linear, double exposure) {
+    const float exposed = static_cast<float>(static_cast<double>(linear) * std::exp2(exposure));
+    return std::clamp(srgbEncode(exposed), 0.0f, 1.0f);
+}
+
+}  // namespace tyndall

@@ -21,4 +21,7 @@ Image readImage(const std::string& path);
 float srgbEncode(float linear);
 float tonemap(float linear, double exposure);
 
+// Display -> linear: the inverse of srgbEncode on [0, 1] (used to store colour maps given as sRGB values).
+float srgbDecode(float encoded);
+
 }  // namespace tyndall
