@@ -1,1 +1,70 @@
-// placeholder, being written
+// The registry of techniques by name. Built-in techniques are listed here explicitly.
+#include "tyndall/error.h"
+#include "tyndall/params.h"
+#include "tyndall/technique.h"
+
+#include "reference/reference.h"
+
+#include <map>
+#include <mutex>
+
+namespace tyndall {
+
+namespace {
+struct Registry {
+    std::mutex mutex;
+    std::map<std::string, TechniqueFactory> factories;
+
+    Registry() {
+        factories["reference"] = [] { return std::make_unique<ReferenceTechnique>(); };
+    }
+};
+
+Registry& registry() {
+    static Registry instance;
+    return instance;
+}
+}  // namespace
+
+std::vector<std::string> techniqueNames() {
+    Registry& r = registry();
+    std::lock_guard lock(r.mutex);
+    std::vector<std::string> names;
+    for (const auto& [name, factory] : r.factories) names.push_back(name);
+    return names;
+}
+
+bool hasTechnique(const std::string& name) {
+    Registry& r = registry();
+    std::lock_guard lock(r.mutex);
+    return r.factories.count(name) != 0;
+}
+
+std::unique_ptr<Technique> createTechnique(const std::string& name) {
+    TechniqueFactory factory;
+    {
+        Registry& r = registry();
+        std::lock_guard lock(r.mutex);
+        auto it = r.factories.find(name);
+        if (it != r.factories.end()) factory = it->second;
+    }
+    if (!factory) {
+        std::string message = "unknown technique '" + name + "'";
+        std::vector<std::string> names = techniqueNames();
+        std::string nearest = nearestName(name, names);
+        if (!nearest.empty()) message += "; did you mean '" + nearest + "'?";
+        message += " Known techniques:";
+        for (const std::string& n : names) message += " " + n;
+        throw InputError(InputLocation{"", 0, 0, "technique"}, message);
+    }
+    return factory();
+}
+
+void registerTechnique(const std::string& name, TechniqueFactory factory) {
+    TY_CHECK(static_cast<bool>(factory), "a technique factory must be callable");
+    Registry& r = registry();
+    std::lock_guard lock(r.mutex);
+    r.factories[name] = std::move(factory);
+}
+
+}  // namespace tyndall

@@ -1,0 +1,46 @@
+// Turning a project's view (or its reference) into a render: the part of the scene it covers, its technique and
+// parameters, and the metadata every output carries. The CLI and the studio both go through here, so that a view and
+// its reference always render the same part of the scene.
+#pragma once
+
+#include "tyndall/project.h"
+#include "tyndall/technique.h"
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace tyndall {
+
+struct RenderJob {
+    std::string label;                      // "view 'fog'" or "reference of view 'fog'"
+    std::unique_ptr<Technique> technique;
+    RenderRequest request;
+    double exposure = 0.0;                  // the view's exposure, for PNGs and PSNR
+    std::map<std::string, std::string> metadata;  // written into the image on completion
+};
+
+struct JobOptions {
+    std::optional<int> spp;               // overrides the technique's / reference's default
+    std::optional<double> timeLimit;      // s
+    std::optional<std::uint64_t> seed;
+    int threads = 0;
+};
+
+// A job that renders view `viewName` with its technique. Throws InputError (field "view") for an unknown view, with the
+// nearest name, and when the technique cannot render the view's part.
+RenderJob makeViewJob(const Project& project, const std::string& projectPath, const std::string& viewName,
+                      const JobOptions& options = {});
+
+// A job that renders the reference of `viewName`'s part, or of the whole scene when viewName is empty, with the
+// project's reference settings.
+RenderJob makeReferenceJob(const Project& project, const std::string& projectPath, const std::string& viewName,
+                           const JobOptions& options = {});
+
+// Runs the job and stamps the image with the job's metadata, spp, render time and Tyndall's version.
+RenderResult runJob(RenderJob& job, const RenderCallbacks& callbacks = {});
+
+const char* tyndallVersion();
+
+}  // namespace tyndall

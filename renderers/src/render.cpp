@@ -1,0 +1,139 @@
+#include "tyndall/render.h"
+
+#include "tyndall/error.h"
+#include "tyndall/params.h"
+
+#include <filesystem>
+
+namespace tyndall {
+
+const char* tyndallVersion() { return TYNDALL_VERSION; }
+
+namespace {
+
+const View& findView(const Project& project, const std::string& name) {
+    std::vector<std::string> names;
+    for (const View& v : project.views) {
+        if (v.name == name) return v;
+        names.push_back(v.name);
+    }
+    std::string message = "no view named '" + name + "'";
+    std::string nearest = nearestName(name, names);
+    if (!nearest.empty()) message += "; did you mean '" + nearest + "'?";
+    message += names.empty() ? " The project has no views." : " Views:";
+    for (const std::string& n : names) message += " " + n;
+    throw InputError(InputLocation{"", 0, 0, "view"}, message);
+}
+
+ParamSet paramsFromJson(const Technique& technique, const nlohmann::json& values, const std::string& field) {
+    ParamSet params = technique.defaultParams();
+    for (const auto& [key, value] : values.items()) {
+        ParamValue v;
+        if (value.is_boolean()) v = value.get<bool>();
+        else if (value.is_number_integer()) v = value.get<std::int64_t>();
+        else if (value.is_number()) v = value.get<double>();
+        else if (value.is_string()) v = value.get<std::string>();
+        else if (value.is_array() && value.size() == 3) v = Rgb(value[0].get<double>(), value[1].get<double>(), value[2].get<double>());
+        else throw InputError(InputLocation{"", 0, 0, field + "." + key}, "unsupported value " + value.dump());
+        try {
+            params.set(key, v);
+        } catch (const InputError& e) {
+            throw InputError(InputLocation{"", 0, 0, field + "." + key}, e.message());
+        }
+    }
+    return params;
+}
+
+std::string projectDirOf(const std::string& projectPath) {
+    std::filesystem::path dir = std::filesystem::path(projectPath).parent_path();
+    return dir.empty() ? std::string(".") : dir.string();
+}
+
+void applyOptions(RenderRequest& request, const JobOptions& options) {
+    if (options.spp) request.spp = *options.spp;
+    if (options.timeLimit) request.timeLimit = *options.timeLimit;
+    if (options.seed) request.seed = *options.seed;
+    request.threads = options.threads;
+}
+
+void checkSupported(const Technique& technique, const Scene& scene, const std::string& label) {
+    std::vector<std::string> missing = technique.unsupported(scene);
+    if (missing.empty()) return;
+    std::string message = technique.name() + " cannot render the part of the scene of " + label + ":";
+    for (const std::string& m : missing) message += "\n  " + m;
+    throw InputError(InputLocation{"", 0, 0, "views"}, message);
+}
+
+void checkImageSize(const Camera& camera) {
+    const long long pixels = (long long)camera.width * camera.height;
+    if (pixels > (1LL << 26))
+        throw InputError(InputLocation{"", 0, 0, "camera"},
+                         "an image of " + std::to_string(camera.width) + " x " + std::to_string(camera.height) +
+                             " pixels is too large to render; at most 67 million pixels (e.g. 8192 x 8192)");
+}
+
+}  // namespace
+
+RenderJob makeViewJob(const Project& project, const std::string& projectPath, const std::string& viewName,
+                      const JobOptions& options) {
+    const View& view = findView(project, viewName);
+    RenderJob job;
+    job.label = "view '" + view.name + "'";
+    job.technique = createTechnique(view.technique);
+    job.request.scene = resolvePart(project, view).apply(project.scene);
+    checkSupported(*job.technique, job.request.scene, job.label);
+    checkImageSize(job.request.scene.camera);
+    job.request.params = paramsFromJson(*job.technique, view.parameters, "views." + view.name + ".parameters");
+    job.request.projectDir = projectDirOf(projectPath);
+    job.request.seed = project.reference.seed;
+    applyOptions(job.request, options);
+    job.exposure = view.exposure;
+    job.metadata["view"] = view.name;
+    job.metadata["projectHash"] = projectHash(project);
+    return job;
+}
+
+RenderJob makeReferenceJob(const Project& project, const std::string& projectPath, const std::string& viewName,
+                           const JobOptions& options) {
+    RenderJob job;
+    job.technique = createTechnique("reference");
+    if (viewName.empty()) {
+        job.label = "the reference of the whole scene";
+        job.request.scene = project.scene;
+    } else {
+        const View& view = findView(project, viewName);
+        job.label = "the reference of view '" + view.name + "'";
+        job.request.scene = resolvePart(project, view).apply(project.scene);
+        job.exposure = view.exposure;
+        job.metadata["view"] = view.name;
+    }
+    checkImageSize(job.request.scene.camera);
+    job.request.params = job.technique->defaultParams();
+    const ReferenceSettings& ref = project.reference;
+    job.request.params.set("mode", std::string(ref.mode == ReferenceSettings::Mode::Multiple ? "multiple" : "single"));
+    job.request.params.set("maxDepth", std::int64_t(ref.maxDepth));
+    job.request.spp = ref.spp;
+    job.request.seed = ref.seed;
+    job.request.projectDir = projectDirOf(projectPath);
+    applyOptions(job.request, options);
+    job.metadata["reference"] = "true";
+    job.metadata["projectHash"] = projectHash(project);
+    return job;
+}
+
+RenderResult runJob(RenderJob& job, const RenderCallbacks& callbacks) {
+    RenderResult result = job.technique->render(job.request, callbacks);
+    for (const auto& [key, value] : job.metadata) result.image.metadata[key] = value;
+    result.image.metadata["technique"] = job.technique->name();
+    result.image.metadata["spp"] = std::to_string(result.spp);
+    result.image.metadata["renderTime"] = std::to_string(result.seconds);
+    result.image.metadata["seed"] = std::to_string(job.request.seed);
+    result.image.metadata["exposure"] = std::to_string(job.exposure);
+    result.image.metadata["tyndallVersion"] = tyndallVersion();
+    nlohmann::json params = nlohmann::json::object();
+    for (const auto& [key, value] : job.request.params.values()) params[key] = toString(value);
+    result.image.metadata["parameters"] = params.dump();
+    return result;
+}
+
+}  // namespace tyndall
