@@ -1,1 +1,494 @@
+// Tests that would catch a wrong reference. Statistical tests sample until the standard error of the mean is at most
+// 0.2 % of the value, then require agreement within 4 standard errors (plus the quadrature's own 1e-5), so that a 1 %
+// bias fails. Standard errors come from independent batches (each with its own scramble seed), because the samples
+// within a batch are stratified and not independent.
+#include "reference/integrator.h"
+#include "reference/reference.h"
+
+#include "tyndall/error.h"
+#include "tyndall/geometry.h"
+#include "tyndall/technique.h"
+
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <random>
+
+namespace tyndall {
+namespace {
+
+using reference::Integrator;
+using reference::IntegratorOptions;
+using reference::SampleStream;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Adaptive Simpson quadrature on [a, b] to an absolute tolerance.
+double adaptiveSimpsonPanel(const std::function<double(double)>& f, double a, double b, double tol, int depth) {
+    struct Rec {
+        static double run(const std::function<double(double)>& f, double a, double b, double fa, double fm, double fb,
+                          double whole, double tol, int depth) {
+            double m = 0.5 * (a + b), lm = 0.5 * (a + m), rm = 0.5 * (m + b);
+            double flm = f(lm), frm = f(rm);
+            double left = (m - a) / 6.0 * (fa + 4.0 * flm + fm);
+            double right = (b - m) / 6.0 * (fm + 4.0 * frm + fb);
+            if (depth <= 0 || std::abs(left + right - whole) <= 15.0 * tol)
+                return left + right + (left + right - whole) / 15.0;
+            return run(f, a, m, fa, flm, fm, left, tol * 0.5, depth - 1) +
+                   run(f, m, b, fm, frm, fb, right, tol * 0.5, depth - 1);
+        }
+    };
+    double fa = f(a), fb = f(b), fm = f(0.5 * (a + b));
+    double whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
+    return Rec::run(f, a, b, fa, fm, fb, whole, tol, depth);
+}
+
+// Adaptive Simpson over `panels` equal panels: starting from several panels keeps a narrow feature (a Gaussian that
+// the first three samples straddle) from ending the refinement early.
+double adaptiveSimpson(const std::function<double(double)>& f, double a, double b, double tol, int panels = 64) {
+    double sum = 0.0, h = (b - a) / panels;
+    for (int i = 0; i < panels; ++i) sum += adaptiveSimpsonPanel(f, a + i * h, a + (i + 1) * h, tol / panels, 40);
+    return sum;
+}
+
+// Integral over [0, inf) by splitting at the light's foot point and mapping the tail.
+double integrateToInfinity(const std::function<double(double)>& f, double split, double tol) {
+    double head = adaptiveSimpson(f, 0.0, split, tol);
+    auto tail = [&](double s) {  // t = split + s / (1 - s)
+        if (s >= 1.0) return 0.0;
+        double t = split + s / (1.0 - s);
+        return f(t) / ((1.0 - s) * (1.0 - s));
+    };
+    return head + adaptiveSimpson(tail, 0.0, 1.0, tol);
+}
+
+struct Estimate {
+    glm::dvec3 mean{0.0};
+    glm::dvec3 standardError{0.0};
+};
+
+// Averages independent batches of per-ray estimates until every channel's standard error is below 0.2 % of its mean
+// (or maxBatches is reached; the caller then checks the achieved precision).
+Estimate estimateRay(const Integrator& integrator, const glm::vec3& o, const glm::vec3& d, int samplesPerBatch,
+                     int maxBatches, uint32_t seed = 1) {
+    std::vector<glm::dvec3> batches;
+    Estimate e;
+    for (int b = 0; b < maxBatches; ++b) {
+        glm::dvec3 sum(0.0);
+        const uint32_t batchSeed = shader::hashCombine(seed, uint32_t(b));
+        for (int i = 0; i < samplesPerBatch; ++i) {
+            SampleStream s(batchSeed, uint32_t(i));
+            sum += glm::dvec3(integrator.radiance(o, d, s));
+        }
+        batches.push_back(sum / double(samplesPerBatch));
+        if (batches.size() < 8) continue;
+        glm::dvec3 mean(0.0), var(0.0);
+        for (const auto& x : batches) mean += x;
+        mean /= double(batches.size());
+        for (const auto& x : batches) var += (x - mean) * (x - mean);
+        var /= double(batches.size() - 1);
+        e.mean = mean;
+        e.standardError = glm::sqrt(var / double(batches.size()));
+        bool precise = true;
+        for (int c = 0; c < 3; ++c) precise = precise && e.standardError[c] <= 0.002 * std::abs(mean[c]);
+        if (precise) break;
+    }
+    return e;
+}
+
+void expectAgrees(const Estimate& e, const glm::dvec3& exact, const std::string& what) {
+    for (int c = 0; c < 3; ++c) {
+        SCOPED_TRACE(what + " channel " + std::to_string(c));
+        ASSERT_GT(exact[c], 0.0);
+        EXPECT_LE(e.standardError[c], 0.002 * exact[c]) << "not enough samples for a 0.2 % standard error";
+        EXPECT_NEAR(e.mean[c], exact[c], 4.0 * e.standardError[c] + 1e-5 * exact[c]);
+    }
+}
+
+Scene emptyScene() {
+    Scene scene;
+    scene.camera.width = 8;
+    scene.camera.height = 8;
+    return scene;
+}
+
+PhaseFunction phaseOfKind(int i) {
+    PhaseFunction p;
+    switch (i) {
+        case 0: p.kind = PhaseKind::Isotropic; break;
+        case 1: p.kind = PhaseKind::HenyeyGreenstein; p.g = 0.7; break;
+        case 2: p.kind = PhaseKind::HenyeyGreenstein; p.g = -0.4; break;
+        case 3: p.kind = PhaseKind::IsoHgMix; p.a = 0.6; p.g = 0.8; break;
+        case 4: p.kind = PhaseKind::Rayleigh; break;
+        case 5: p.kind = PhaseKind::Eddington; p.b = 0.7; break;
+        default: p.kind = PhaseKind::Legendre; p.legendre = {1.0, 1.2, 0.6, 0.15}; break;
+    }
+    return p;
+}
+constexpr int kPhaseKinds = 7;
+
+double phaseValue(const PhaseFunction& p, double mu) {
+    return double(shader::phaseEval(reference::toPhaseParams(p), float(mu)));
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+
+TEST(ReferenceSingleScattering, EquiangularIsExactWithoutTransmittance) {
+    // sigma_s I / (4 pi) * (theta_b - theta_a) / h for an isotropic point light and a ray to infinity.
+    Scene scene = emptyScene();
+    HomogeneousMedium fog;
+    fog.name = "fog";
+    fog.sigma_s = Rgb(0.3, 0.2, 0.1);
+    fog.sigma_a = Rgb(0.05);
+    scene.media.push_back(fog);
+    PointLight light;
+    light.name = "lamp";
+    light.position = Vec3(1.0, 2.0, -3.0);
+    light.intensity = Rgb(5.0, 4.0, 3.0);
+    scene.pointLights.push_back(light);
+    auto rs = reference::prepareScene(scene, ".");
+    IntegratorOptions options;
+    options.transmittance = false;
+    options.distance = reference::DistanceStrategy::LightTargeted;
+    Integrator integrator(*rs, options);
+
+    const glm::vec3 o(0.0f, 0.0f, 0.0f), d = glm::normalize(glm::vec3(0.2f, 0.3f, -1.0f));
+    const glm::dvec3 lp(light.position), od(o), dd(d);
+    const double t0 = glm::dot(lp - od, dd);
+    const double h = glm::length(od + t0 * dd - lp);
+    const double thetaA = std::atan2(0.0 - t0, h), thetaB = kPi / 2.0;
+    const glm::dvec3 expected = fog.sigma_s * light.intensity / (4.0 * kPi) * (thetaB - thetaA) / h;
+    for (uint32_t i = 0; i < 256; ++i) {
+        SampleStream s(7u, i);
+        glm::dvec3 L(integrator.radiance(o, d, s));
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(L[c], expected[c], 2e-5 * expected[c]) << "sample " << i;
+    }
+}
+
+// Single scattering along a ray through an infinite medium lit by a point light, with transmittance on both legs.
+TEST(ReferenceSingleScattering, PointLightInInfiniteMediumMatchesQuadrature) {
+    std::mt19937 rng(12345);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int kind = 0; kind < kPhaseKinds; ++kind) {
+        for (int config = 0; config < 2; ++config) {
+            Scene scene = emptyScene();
+            HomogeneousMedium fog;
+            fog.name = "fog";
+            fog.sigma_s = Rgb(0.2 + 0.1 * u(rng), 0.3 + 0.1 * u(rng), 0.15);  // chromatic
+            fog.sigma_a = Rgb(0.05, 0.1, 0.02);
+            fog.phase = phaseOfKind(kind);
+            scene.media.push_back(fog);
+            PointLight light;
+            light.name = "lamp";
+            light.position = Vec3(1.5 * u(rng), 1.0 + u(rng), -2.0 + u(rng));
+            light.intensity = Rgb(3.0, 2.0, 1.0);
+            scene.pointLights.push_back(light);
+            auto rs = reference::prepareScene(scene, ".");
+            Integrator integrator(*rs, IntegratorOptions{});
+
+            const glm::dvec3 o(0.1 * u(rng), 0.1 * u(rng), 0.0);
+            const glm::dvec3 d = glm::normalize(glm::dvec3(0.3 * u(rng), 0.3 * u(rng), -1.0));
+            glm::dvec3 exact;
+            for (int c = 0; c < 3; ++c) {
+                const double st = fog.sigma_t()[c], ss = fog.sigma_s[c];
+                auto f = [&](double t) {
+                    glm::dvec3 x = o + t * d;
+                    glm::dvec3 toLight = light.position - x;
+                    double r = glm::length(toLight);
+                    double mu = glm::dot(d, toLight / r);
+                    return std::exp(-st * t) * ss * phaseValue(fog.phase, mu) * light.intensity[c] / (r * r) *
+                           std::exp(-st * r);
+                };
+                exact[c] = integrateToInfinity(f, std::max(0.5, glm::dot(light.position - o, d)), 1e-10);
+            }
+            Estimate e = estimateRay(integrator, glm::vec3(o), glm::vec3(d), 512, 400, uint32_t(kind * 10 + config));
+            expectAgrees(e, exact, "phase kind " + std::to_string(kind));
+        }
+    }
+}
+
+// A box medium lit by a directional light, camera outside the box, no occluders.
+TEST(ReferenceSingleScattering, DirectionalLightInBoxMatchesQuadrature) {
+    std::mt19937 rng(777);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int kind = 0; kind < kPhaseKinds; ++kind) {
+        Scene scene = emptyScene();
+        HomogeneousMedium fog;
+        fog.name = "fog";
+        fog.sigma_s = Rgb(0.5, 0.4, 0.3);
+        fog.sigma_a = Rgb(0.1, 0.2, 0.05);
+        fog.phase = phaseOfKind(kind);
+        fog.shape = MediumShape::Box;
+        fog.box.centre = Vec3(0.0, 0.0, -3.0);
+        fog.box.size = Vec3(2.0 + 0.5 * u(rng), 1.5, 2.5);
+        fog.box.rotate = Vec3(10.0 * u(rng), 30.0 * u(rng), 5.0);
+        scene.media.push_back(fog);
+        DirectionalLight sun;
+        sun.name = "sun";
+        sun.direction = glm::normalize(Vec3(0.4 * u(rng), -1.0, 0.3 * u(rng)));
+        sun.irradiance = Rgb(2.0, 3.0, 4.0);
+        scene.directionalLights.push_back(sun);
+        auto rs = reference::prepareScene(scene, ".");
+        Integrator integrator(*rs, IntegratorOptions{});
+
+        const glm::dvec3 o(0.0, 0.2 * u(rng), 0.0);
+        const glm::dvec3 d = glm::normalize(glm::dvec3(0.1 * u(rng), 0.1 * u(rng), -1.0));
+        const std::vector<HalfSpace> planes = boxHalfSpaces(fog.box);
+        // Distance along a ray from x to the box's boundary (x inside), and the ray's [t0, t1] inside the box.
+        auto clip = [&](const glm::dvec3& x, const glm::dvec3& w, double& t0, double& t1) {
+            t0 = 0.0;
+            t1 = 1e30;
+            for (const HalfSpace& h : planes) {
+                double denom = glm::dot(h.normal, w), dist = h.offset - glm::dot(h.normal, x);
+                if (denom == 0.0) continue;
+                double t = dist / denom;
+                if (denom > 0.0) t1 = std::min(t1, t);
+                else t0 = std::max(t0, t);
+            }
+            return t0 < t1;
+        };
+        double a, b;
+        ASSERT_TRUE(clip(o, d, a, b)) << "the camera ray must cross the box";
+        glm::dvec3 exact;
+        for (int c = 0; c < 3; ++c) {
+            const double st = fog.sigma_t()[c], ss = fog.sigma_s[c];
+            auto f = [&](double t) {
+                glm::dvec3 x = o + t * d;
+                double s0, s1;
+                clip(x, -sun.direction, s0, s1);
+                double mu = glm::dot(d, -sun.direction);
+                return std::exp(-st * (t - a)) * ss * phaseValue(fog.phase, mu) * sun.irradiance[c] * std::exp(-st * s1);
+            };
+            exact[c] = adaptiveSimpson(f, a, b, 1e-11);
+        }
+        Estimate e = estimateRay(integrator, glm::vec3(o), glm::vec3(d), 512, 400, uint32_t(100 + kind));
+        expectAgrees(e, exact, "phase kind " + std::to_string(kind));
+    }
+}
+
+// A particle medium: the extinction of one tetrahedral particle fades as a Gaussian from its centre (ISV thesis Eq. 9).
+// The reference's closed-form optical depth and its delta tracking against the particle's majorant must reproduce
+// quadrature of the extinction field.
+TEST(ReferenceSingleScattering, ParticleMediumMatchesQuadrature) {
+    Scene scene = emptyScene();
+    ParticleMedium smoke;
+    smoke.name = "smoke";
+    smoke.extinction = 1.5;
+    smoke.albedo = Rgb(0.9, 0.7, 0.5);
+    smoke.phase.kind = PhaseKind::HenyeyGreenstein;
+    smoke.phase.g = 0.3;
+    Particle p;
+    p.centre = Vec3(0.05, -0.03, -3.0);
+    p.scale = 1.0;
+    p.falloff = 1.6;
+    p.extinctionMultiplier = 1.0;
+    p.orientation = glm::normalize(glm::dquat(0.9, 0.2, 0.3, 0.1));
+    smoke.particles.push_back(p);
+    scene.particleMedia.push_back(smoke);
+    PointLight light;
+    light.name = "lamp";
+    light.position = Vec3(1.5, 1.0, -2.5);
+    light.intensity = Rgb(4.0);
+    scene.pointLights.push_back(light);
+    auto rs = reference::prepareScene(scene, ".");
+    Integrator integrator(*rs, IntegratorOptions{});
+
+    // The extinction field, by definition: inside the tetrahedron, sigma e^{-50 |x - c|^2 / u^2}.
+    const auto verts = tetrahedronVertices(p);
+    auto inside = [&](const glm::dvec3& x) {
+        static constexpr int kFaces[4][4] = {{1, 2, 3, 0}, {0, 2, 3, 1}, {0, 1, 3, 2}, {0, 1, 2, 3}};
+        for (const auto& f : kFaces) {
+            glm::dvec3 n = glm::cross(verts[f[1]] - verts[f[0]], verts[f[2]] - verts[f[0]]);
+            if (glm::dot(n, verts[f[3]] - verts[f[0]]) > 0.0) n = -n;
+            if (glm::dot(n, x - verts[f[0]]) > 0.0) return false;
+        }
+        return true;
+    };
+    const double u2 = (p.scale * p.falloff) * (p.scale * p.falloff);
+    auto sigma = [&](const glm::dvec3& x) {
+        return inside(x) ? smoke.extinction * std::exp(-50.0 * glm::dot(x - p.centre, x - p.centre) / u2) : 0.0;
+    };
+    // Optical depth by quadrature between x and y (the field is smooth inside the tetrahedron; the tolerance is tight
+    // enough that the jumps at its faces are resolved by subdivision).
+    auto tau = [&](const glm::dvec3& x, const glm::dvec3& y) {
+        glm::dvec3 w = y - x;
+        return glm::length(w) * adaptiveSimpson([&](double s) { return sigma(x + s * w); }, 0.0, 1.0, 1e-9, 256);
+    };
+
+    const glm::dvec3 o(0.0, 0.0, 0.0), d = glm::normalize(glm::dvec3(0.02, 0.01, -1.0));
+    glm::dvec3 exact;
+    for (int c = 0; c < 3; ++c) {
+        auto f = [&](double t) {
+            glm::dvec3 x = o + t * d;
+            double s = sigma(x);
+            if (s == 0.0) return 0.0;
+            glm::dvec3 toLight = light.position - x;
+            double r = glm::length(toLight);
+            double mu = glm::dot(d, toLight / r);
+            return std::exp(-tau(o, x)) * smoke.albedo[c] * s * phaseValue(smoke.phase, mu) * light.intensity[c] /
+                   (r * r) * std::exp(-tau(x, light.position));
+        };
+        exact[c] = adaptiveSimpson(f, 1.5, 4.5, 1e-8);
+    }
+    Estimate e = estimateRay(integrator, glm::vec3(o), glm::vec3(d), 512, 400, 99u);
+    expectAgrees(e, exact, "particle");
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Multiple scattering: every strategy estimates the same integral.
+
+Scene multipleScatteringScene() {
+    Scene scene = emptyScene();
+    HomogeneousMedium fog;
+    fog.name = "fog";
+    fog.sigma_s = Rgb(0.8, 0.6, 0.5);
+    fog.sigma_a = Rgb(0.1, 0.2, 0.15);
+    fog.phase.kind = PhaseKind::HenyeyGreenstein;
+    fog.phase.g = 0.4;
+    fog.shape = MediumShape::Box;
+    fog.box.centre = Vec3(0.0, 1.0, -3.0);
+    fog.box.size = Vec3(2.0, 2.0, 2.0);
+    scene.media.push_back(fog);
+    AreaLight panel;
+    panel.name = "panel";
+    panel.vertices = {Vec3(-1.5, 2.2, -4.5), Vec3(1.5, 2.2, -4.5), Vec3(1.5, 2.2, -1.5), Vec3(-1.5, 2.2, -1.5)};
+    panel.radiance = Rgb(3.0);
+    panel.twoSided = true;
+    scene.areaLights.push_back(panel);
+    Material white;
+    white.name = "white";
+    white.albedo = Rgb(0.7);
+    scene.materials.push_back(white);
+    Mesh floor;
+    floor.name = "floor";
+    floor.source = Mesh::Source::Plane;
+    floor.transform.translate = Vec3(0.0, -0.2, -3.0);
+    floor.transform.scale = Vec3(6.0, 1.0, 6.0);
+    floor.material = "white";
+    scene.meshes.push_back(floor);
+    return scene;
+}
+
+TEST(ReferenceMultipleScattering, StrategiesAgree) {
+    Scene scene = multipleScatteringScene();
+    auto rs = reference::prepareScene(scene, ".");
+    struct Strategy {
+        const char* name;
+        reference::DistanceStrategy distance;
+        reference::LightStrategy light;
+    };
+    const Strategy strategies[] = {
+        {"NEE with delta tracking only", reference::DistanceStrategy::Distance, reference::LightStrategy::LightSampling},
+        {"NEE with equiangular only", reference::DistanceStrategy::LightTargeted, reference::LightStrategy::LightSampling},
+        {"phase/BSDF sampling only", reference::DistanceStrategy::Distance, reference::LightStrategy::PhaseSampling},
+        {"MIS of all", reference::DistanceStrategy::Mis, reference::LightStrategy::Mis},
+    };
+    const glm::vec3 o(0.0f, 1.0f, 0.0f);
+    const glm::vec3 dirs[] = {glm::normalize(glm::vec3(0.0f, -0.05f, -1.0f)), glm::normalize(glm::vec3(0.1f, -0.3f, -1.0f))};
+    for (const glm::vec3& d : dirs) {
+        std::vector<Estimate> estimates;
+        for (const Strategy& s : strategies) {
+            IntegratorOptions options;
+            options.multipleScattering = true;
+            options.maxDepth = 4;
+            options.distance = s.distance;
+            options.light = s.light;
+            Integrator integrator(*rs, options);
+            estimates.push_back(estimateRay(integrator, o, d, 256, 4000, 5u));
+            for (int c = 0; c < 3; ++c)
+                EXPECT_LE(estimates.back().standardError[c], 0.002 * estimates.back().mean[c]) << s.name;
+        }
+        for (size_t i = 0; i < estimates.size(); ++i) {
+            for (size_t j = i + 1; j < estimates.size(); ++j) {
+                for (int c = 0; c < 3; ++c) {
+                    double se = std::hypot(estimates[i].standardError[c], estimates[j].standardError[c]);
+                    EXPECT_NEAR(estimates[i].mean[c], estimates[j].mean[c], 4.0 * se)
+                        << strategies[i].name << " vs " << strategies[j].name << ", channel " << c;
+                }
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Whole renders
+
+RenderRequest smallRequest(const Scene& scene, int spp, uint64_t seed, int threads) {
+    RenderRequest request;
+    request.scene = scene;
+    request.params = ReferenceTechnique().defaultParams();
+    request.spp = spp;
+    request.seed = seed;
+    request.threads = threads;
+    request.projectDir = ".";
+    return request;
+}
+
+TEST(ReferenceRender, ImageDoesNotDependOnThreadCount) {
+    Scene scene = multipleScatteringScene();
+    scene.camera.position = Vec3(0.0, 1.0, 0.0);
+    scene.camera.target = Vec3(0.0, 1.0, -3.0);
+    scene.camera.width = 24;
+    scene.camera.height = 16;
+    ReferenceTechnique reference;
+    RenderResult one = reference.render(smallRequest(scene, 8, 3, 1), {});
+    RenderResult two = reference.render(smallRequest(scene, 8, 3, 2), {});
+    ASSERT_EQ(one.image.size(), two.image.size());
+    for (size_t i = 0; i < one.image.size(); ++i) ASSERT_EQ(one.image.data()[i], two.image.data()[i]) << "at " << i;
+    EXPECT_EQ(one.image.metadata.at("nonFiniteSamples"), "0");
+}
+
+TEST(ReferenceRender, HalfBufferVarianceMatchesVarianceAcrossSeeds) {
+    Scene scene = multipleScatteringScene();
+    scene.camera.position = Vec3(0.0, 1.0, 0.0);
+    scene.camera.target = Vec3(0.0, 1.0, -3.0);
+    scene.camera.width = 16;
+    scene.camera.height = 12;
+    ReferenceTechnique reference;
+    constexpr int kSeeds = 24;
+    const size_t pixels = size_t(scene.camera.width) * scene.camera.height;
+    std::vector<glm::dvec3> sum(pixels), sumSq(pixels);
+    double halfBuffer = 0.0;
+    for (int seed = 0; seed < kSeeds; ++seed) {
+        RenderResult r = reference.render(smallRequest(scene, 16, 1000 + seed, 0), {});
+        for (size_t p = 0; p < pixels; ++p) {
+            int x = int(p % scene.camera.width), y = int(p / scene.camera.width);
+            for (int c = 0; c < 3; ++c) {
+                double v = r.image.at(x, y, c);
+                sum[p][c] += v;
+                sumSq[p][c] += v * v;
+                halfBuffer += r.image.at(x, y, 3 + c);
+            }
+        }
+    }
+    halfBuffer /= double(kSeeds);
+    double acrossSeeds = 0.0;
+    for (size_t p = 0; p < pixels; ++p)
+        for (int c = 0; c < 3; ++c) {
+            double mean = sum[p][c] / kSeeds;
+            acrossSeeds += (sumSq[p][c] - kSeeds * mean * mean) / (kSeeds - 1);
+        }
+    // Both are unbiased estimates of the summed variance of the pixel means; with 24 seeds x 576 pixel-channels the
+    // relative standard error of each sum is a few percent, so they must agree within 15 %.
+    EXPECT_NEAR(halfBuffer / acrossSeeds, 1.0, 0.15) << "half-buffer " << halfBuffer << " vs seeds " << acrossSeeds;
+}
+
+TEST(ReferenceRender, CancelStopsTheRender) {
+    Scene scene = multipleScatteringScene();
+    std::atomic<bool> cancel{true};
+    RenderCallbacks callbacks;
+    callbacks.cancel = &cancel;
+    ReferenceTechnique reference;
+    EXPECT_THROW(reference.render(smallRequest(scene, 1000, 1, 0), callbacks), Cancelled);
+}
+
+TEST(ReferenceRender, SupportsEverySceneElement) {
+    ReferenceTechnique reference;
+    Scene scene = multipleScatteringScene();
+    EXPECT_TRUE(reference.unsupported(scene).empty());
+    EXPECT_EQ(createTechnique("reference")->name(), "reference");
+}
+
+}  // namespace
+}  // namespace tyndall

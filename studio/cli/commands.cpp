@@ -1,1 +1,283 @@
-// placeholder, being written
+#include "commands.h"
+
+#include "progress.h"
+
+#include "tyndall/error.h"
+#include "tyndall/image_io.h"
+#include "tyndall/metrics.h"
+#include "tyndall/project.h"
+#include "tyndall/render.h"
+
+#include <nlohmann/json.hpp>
+#include <tbb/info.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace tyndall::cli {
+
+namespace {
+
+std::atomic<bool> gCancel{false};
+void onInterrupt(int) { gCancel.store(true); }
+
+// Runs `body`, mapping errors to exit codes and messages on stderr.
+template <typename Body>
+int guarded(Body&& body) {
+    try {
+        return body();
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "tyndall: error: %s\n", e.what());
+        return kBadInput;
+    } catch (const Cancelled&) {
+        std::fprintf(stderr, "tyndall: cancelled\n");
+        return kFailure;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "tyndall: error: out of memory\n");
+        return kFailure;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "tyndall: failure: %s\n", e.what());
+        return kFailure;
+    }
+}
+
+std::string extensionOf(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+void checkOutputPath(const std::string& path) {
+    std::string ext = extensionOf(path);
+    if (ext != ".exr" && ext != ".png")
+        throw InputError(InputLocation{"", 0, 0, "--out"}, "'" + path + "' must end in .exr or .png");
+    std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    if (!dir.empty() && !std::filesystem::is_directory(dir))
+        throw InputError(InputLocation{"", 0, 0, "--out"}, "the folder of '" + path + "' does not exist");
+}
+
+// "WxH" -> camera overrides.
+void addSizeOverrides(const std::string& size, std::vector<std::string>& sets) {
+    int w = 0, h = 0;
+    char x = 0, rest = 0;
+    std::istringstream in(size);
+    if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> rest))
+        throw InputError(InputLocation{"", 0, 0, "--size"}, "'" + size + "' is not WIDTHxHEIGHT, e.g. 512x512");
+    sets.push_back("camera.width=" + std::to_string(w));
+    sets.push_back("camera.height=" + std::to_string(h));
+}
+
+Region parseRegion(const std::string& text) {
+    Region r;
+    if (text.empty()) return r;
+    char c1 = 0, c2 = 0, c3 = 0;
+    std::istringstream in(text);
+    if (!(in >> r.x >> c1 >> r.y >> c2 >> r.width >> c3 >> r.height) || c1 != ',' || c2 != ',' || c3 != ',' ||
+        r.width <= 0 || r.height <= 0)
+        throw InputError(InputLocation{"", 0, 0, "--region"}, "'" + text + "' is not x,y,width,height with a positive size");
+    return r;
+}
+
+void writeTextAtomically(const std::string& path, const std::string& text, const char* field) {
+    std::filesystem::path target(path);
+    std::filesystem::path tmp = target;
+    tmp += ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        if (!out) throw InputError(InputLocation{"", 0, 0, field}, "cannot write '" + path + "'");
+        out << text;
+        out.flush();
+        if (!out) {
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            throw InputError(InputLocation{"", 0, 0, field}, "cannot write '" + path + "'");
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, target, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw InputError(InputLocation{"", 0, 0, field}, "cannot write '" + path + "': " + ec.message());
+    }
+}
+
+std::string formatNumber(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+}  // namespace
+
+int render(const RenderArgs& args) {
+    return guarded([&] {
+        std::vector<std::string> sets = args.sets;
+        if (!args.size.empty()) addSizeOverrides(args.size, sets);
+        if (args.spp && *args.spp < 1)
+            throw InputError(InputLocation{"", 0, 0, "--spp"}, "must be at least 1, got " + std::to_string(*args.spp));
+        if (args.time && !(*args.time > 0.0))
+            throw InputError(InputLocation{"", 0, 0, "--time"}, "must be a positive number of seconds");
+        if (!args.reference && args.view.empty())
+            throw InputError(InputLocation{"", 0, 0, "--view"}, "name a view with --view, or render the reference with --reference");
+        std::vector<std::string> outs = args.outs;
+        if (outs.empty()) {
+            std::string stem = std::filesystem::path(args.project).stem().string();
+            outs.push_back(stem + "-" + (args.reference ? std::string("reference") : args.view) +
+                           (args.reference && !args.view.empty() ? "-" + args.view : std::string()) + ".exr");
+        }
+        for (const std::string& out : outs) checkOutputPath(out);
+
+        Project project = loadProject(args.project, sets);
+        JobOptions options;
+        options.spp = args.spp;
+        options.timeLimit = args.time;
+        options.seed = args.seed;
+        options.threads = args.threads;
+        RenderJob job = args.reference ? makeReferenceJob(project, args.project, args.view, options)
+                                       : makeViewJob(project, args.project, args.view, options);
+
+        std::signal(SIGINT, onInterrupt);
+        ProgressBar bar("rendering " + job.label);
+        RenderCallbacks callbacks;
+        callbacks.progress = [&](double f) { bar.update(f); };
+        callbacks.cancel = &gCancel;
+        RenderResult result = runJob(job, callbacks);
+        bar.finish();
+        std::signal(SIGINT, SIG_DFL);
+
+        const double exposure = args.exposure.value_or(job.exposure);
+        for (const std::string& out : outs) {
+            writeImage(result.image, out, exposure);
+            std::printf("wrote %s (%d x %d, %d spp, %.2f s)\n", out.c_str(), result.image.width(),
+                        result.image.height(), result.spp, result.seconds);
+        }
+        return int(kOk);
+    });
+}
+
+int validate(const ValidateArgs& args) {
+    int worst = kOk;
+    for (const std::string& path : args.projects) {
+        int code = guarded([&] {
+            Project project = loadProject(path, args.sets);
+            // Every view must be renderable: its technique must support its part of the scene.
+            for (const View& view : project.views) (void)makeViewJob(project, path, view.name);
+            std::printf("%s: ok (%zu views)\n", path.c_str(), project.views.size());
+            return int(kOk);
+        });
+        worst = std::max(worst, code);
+    }
+    return worst;
+}
+
+int compare(const CompareArgs& args) {
+    return guarded([&] {
+        if (args.images.empty()) throw InputError(InputLocation{"", 0, 0, "images"}, "name at least one image to compare");
+        const Region region = parseRegion(args.region);
+        DifferenceKind kind;
+        if (args.diffKind == "signed") kind = DifferenceKind::Signed;
+        else if (args.diffKind == "absolute") kind = DifferenceKind::Absolute;
+        else if (args.diffKind == "relative") kind = DifferenceKind::Relative;
+        else throw InputError(InputLocation{"", 0, 0, "--diff-kind"}, "'" + args.diffKind + "' is not one of signed, absolute, relative");
+        if (args.diffScale < 0.0) throw InputError(InputLocation{"", 0, 0, "--diff-scale"}, "must be positive");
+        if (!args.diff.empty() && args.images.size() > 1 && args.diff.find("{name}") == std::string::npos)
+            throw InputError(InputLocation{"", 0, 0, "--diff"}, "with several images the path must contain {name}");
+
+        Image reference = readImage(args.reference);
+        double exposure = 0.0;
+        if (args.exposure) exposure = *args.exposure;
+        else if (auto it = reference.metadata.find("exposure"); it != reference.metadata.end()) exposure = std::atof(it->second.c_str());
+
+        // One difference scale for every image against this reference: 10 % of the reference's mean luminance by
+        // default, never each image's own range.
+        double scale = args.diffScale;
+        if (scale == 0.0) {
+            double sum = 0.0;
+            Image rgb = reference.select({"R", "G", "B"});
+            for (int y = 0; y < rgb.height(); ++y)
+                for (int x = 0; x < rgb.width(); ++x)
+                    sum += 0.2126 * rgb.at(x, y, 0) + 0.7152 * rgb.at(x, y, 1) + 0.0722 * rgb.at(x, y, 2);
+            scale = std::max(1e-6, 0.1 * sum / (double(rgb.width()) * rgb.height()));
+        }
+
+        nlohmann::json json = nlohmann::json::object();
+        json["reference"] = args.reference;
+        json["exposure"] = exposure;
+        json["differenceScale"] = scale;
+        json["images"] = nlohmann::json::array();
+        std::string csv = metricsCsvHeader() + "\n";
+        std::printf("%-32s %12s %12s %10s %10s %10s\n", "image", "RMSE", "relMSE", "MAPE %", "PSNR dB", "bias %");
+        for (const std::string& path : args.images) {
+            Image image = readImage(path);
+            Metrics m = computeMetrics(image, reference, exposure, region);
+            std::string name = std::filesystem::path(path).stem().string();
+            std::printf("%-32s %12s %12s %10s %10s %10s\n", name.c_str(), formatNumber(m.rmse).c_str(),
+                        formatNumber(m.relMSE).c_str(), formatNumber(m.mape).c_str(), formatNumber(m.psnr).c_str(),
+                        formatNumber(m.energyBias).c_str());
+            nlohmann::json entry = metricsToJson(m);
+            entry["image"] = path;
+            json["images"].push_back(entry);
+            csv += metricsCsvRow(name, m) + "\n";
+            if (!args.diff.empty()) {
+                std::string out = args.diff;
+                if (auto pos = out.find("{name}"); pos != std::string::npos) out.replace(pos, 6, name);
+                checkOutputPath(out);
+                writeImage(differenceImage(image, reference, kind, scale), out);
+                std::printf("wrote %s\n", out.c_str());
+            }
+        }
+        if (auto noise = computeMetrics(reference, reference, exposure, region).referenceNoiseRelMSE)
+            std::printf("reference noise (relMSE from its variance): %s\n", formatNumber(*noise).c_str());
+        if (!args.json.empty()) writeTextAtomically(args.json, json.dump(2) + "\n", "--json");
+        if (!args.csv.empty()) writeTextAtomically(args.csv, csv, "--csv");
+        return int(kOk);
+    });
+}
+
+int info(const InfoArgs& args) {
+    return guarded([&] {
+        nlohmann::json j;
+        j["tyndall"] = tyndallVersion();
+        j["devices"] = nlohmann::json::array();
+        j["devices"].push_back({{"name", "CPU"}, {"threads", tbb::info::default_concurrency()}, {"used by", "reference"}});
+        j["techniques"] = nlohmann::json::array();
+        for (const std::string& name : techniqueNames()) {
+            auto technique = createTechnique(name);
+            nlohmann::json t;
+            t["name"] = name;
+            t["displayName"] = technique->displayName();
+            t["parameters"] = nlohmann::json::array();
+            for (const ParamInfo& p : technique->parameters()) {
+                nlohmann::json pj{{"name", p.name}, {"type", toString(p.type)}, {"default", toString(p.defaultValue)},
+                                  {"doc", p.doc}, {"unit", p.unit}};
+                if (p.type == ParamType::Enum) pj["values"] = p.enumValues;
+                else if (p.type != ParamType::Bool) pj["range"] = {p.min, p.max};
+                t["parameters"].push_back(pj);
+            }
+            j["techniques"].push_back(t);
+        }
+        if (args.json) {
+            std::printf("%s\n", j.dump(2).c_str());
+            return int(kOk);
+        }
+        std::printf("Tyndall %s\n\nDevices:\n  CPU, %d threads (reference)\n\nTechniques:\n", tyndallVersion(),
+                    tbb::info::default_concurrency());
+        for (const auto& t : j["techniques"]) {
+            std::printf("  %s - %s\n", t["name"].get<std::string>().c_str(), t["displayName"].get<std::string>().c_str());
+            for (const auto& p : t["parameters"]) {
+                std::string allowed = p.contains("values") ? p["values"].dump() : p.contains("range") ? p["range"].dump() : "";
+                std::printf("      %-18s %-6s default %-10s %-14s %s\n", p["name"].get<std::string>().c_str(),
+                            p["type"].get<std::string>().c_str(), p["default"].get<std::string>().c_str(),
+                            allowed.c_str(), p["doc"].get<std::string>().c_str());
+            }
+        }
+        return int(kOk);
+    });
+}
+
+}  // namespace tyndall::cli

@@ -1,1 +1,60 @@
-int main() { return 0; }
+// tyndall: the headless command line of Tyndall. Renders views and references, validates projects, compares images.
+#include "commands.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+
+int main(int argc, char** argv) {
+    using namespace tyndall::cli;
+    CLI::App app{"Tyndall: render, validate and compare volumetric rendering techniques"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", TYNDALL_VERSION);
+
+    RenderArgs render;
+    CLI::App* renderCmd = app.add_subcommand("render", "render a view, or the reference, of a project to images");
+    renderCmd->add_option("project", render.project, "project file (.json)")->required();
+    renderCmd->add_option("--view", render.view, "the view to render (with --reference: the view whose part of the scene the reference renders)");
+    renderCmd->add_flag("--reference", render.reference, "render the reference instead of the view's technique");
+    renderCmd->add_option("--set", render.sets, "override a project field: path=value, e.g. media[0].sigma_s=[0.1,0.1,0.1]");
+    renderCmd->add_option("--spp", render.spp, "samples per pixel");
+    renderCmd->add_option("--size", render.size, "image size WIDTHxHEIGHT");
+    renderCmd->add_option("--seed", render.seed, "random seed");
+    renderCmd->add_option("--time", render.time, "time budget in seconds (progressive techniques stop at spp or time)");
+    renderCmd->add_option("--threads", render.threads, "CPU threads (0: all)");
+    renderCmd->add_option("--out,-o", render.outs, "output image(s): .exr (float + metadata) or .png (tonemapped)");
+    renderCmd->add_option("--exposure", render.exposure, "exposure in stops for PNG output (default: the view's)");
+
+    ValidateArgs validate;
+    CLI::App* validateCmd = app.add_subcommand("validate", "check project files and report every problem");
+    validateCmd->add_option("projects", validate.projects, "project files")->required();
+    validateCmd->add_option("--set", validate.sets, "override a project field: path=value");
+
+    CompareArgs compare;
+    CLI::App* compareCmd = app.add_subcommand("compare", "error metrics of images against a reference image");
+    compareCmd->add_option("images", compare.images, "images to compare (.exr)")->required();
+    compareCmd->add_option("--reference,-r", compare.reference, "the reference image (.exr)")->required();
+    compareCmd->add_option("--exposure", compare.exposure, "exposure in stops for PSNR (default: the reference's)");
+    compareCmd->add_option("--region", compare.region, "x,y,width,height in pixels");
+    compareCmd->add_option("--json", compare.json, "write the metrics as JSON");
+    compareCmd->add_option("--csv", compare.csv, "write the metrics as CSV");
+    compareCmd->add_option("--diff", compare.diff, "write a false-colour difference image ({name} is replaced by each image's name)");
+    compareCmd->add_option("--diff-kind", compare.diffKind, "signed, absolute or relative");
+    compareCmd->add_option("--diff-scale", compare.diffScale, "difference at the ends of the colour map (default: 10% of the reference's mean luminance)");
+
+    InfoArgs info;
+    CLI::App* infoCmd = app.add_subcommand("info", "devices, version, techniques and their parameters");
+    infoCmd->add_flag("--json", info.json, "print as JSON");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        int code = app.exit(e);
+        return code == 0 ? 0 : kBadInput;
+    }
+    if (renderCmd->parsed()) return tyndall::cli::render(render);
+    if (validateCmd->parsed()) return tyndall::cli::validate(validate);
+    if (compareCmd->parsed()) return tyndall::cli::compare(compare);
+    if (infoCmd->parsed()) return tyndall::cli::info(info);
+    return kBadInput;
+}

@@ -1,0 +1,50 @@
+// The subcommands of the `tyndall` CLI. Each returns the process exit code: 0 ok, 1 failure, 2 bad input.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tyndall::cli {
+
+enum ExitCode { kOk = 0, kFailure = 1, kBadInput = 2 };
+
+struct RenderArgs {
+    std::string project;
+    std::string view;               // empty with --reference: the whole scene
+    bool reference = false;
+    std::vector<std::string> sets;  // --set path=value
+    std::optional<int> spp;
+    std::string size;               // "WxH"
+    std::optional<std::uint64_t> seed;
+    std::optional<double> time;     // s
+    int threads = 0;
+    std::vector<std::string> outs;  // .exr and/or .png
+    std::optional<double> exposure; // PNG exposure; default: the view's
+};
+int render(const RenderArgs& args);
+
+struct ValidateArgs {
+    std::vector<std::string> projects;
+    std::vector<std::string> sets;
+};
+int validate(const ValidateArgs& args);
+
+struct CompareArgs {
+    std::vector<std::string> images;
+    std::string reference;
+    std::optional<double> exposure;  // default: the reference's "exposure" metadata, else 0
+    std::string region;              // "x,y,w,h"
+    std::string json, csv;           // output files
+    std::string diff;                // difference image (.png or .exr); with several images, "{name}" is replaced
+    std::string diffKind = "signed";
+    double diffScale = 0.0;          // 0: 10 % of the reference's mean luminance... see compare()
+};
+int compare(const CompareArgs& args);
+
+struct InfoArgs {
+    bool json = false;
+};
+int info(const InfoArgs& args);
+
+}  // namespace tyndall::cli
