@@ -1,0 +1,188 @@
+// The tyndall CLI end to end, as a user runs it: exit codes (0 ok, 1 failure, 2 bad input), messages and outputs.
+#include "tyndall/image_io.h"
+#include "tyndall/project.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+    int exitCode = -1;
+    std::string output;  // stdout and stderr
+};
+
+CliRun tyndall(const std::string& args) {
+    std::string command = std::string(TYNDALL_CLI) + " " + args + " 2>&1";
+    CliRun run;
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return run;
+    std::array<char, 4096> buffer{};
+    while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) run.output.append(buffer.data(), n);
+    int status = pclose(pipe);
+    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return run;
+}
+
+std::string source(const std::string& relative) { return std::string(TYNDALL_SOURCE_DIR) + "/" + relative; }
+
+fs::path scratch(const std::string& name) {
+    fs::path dir = fs::path(TYNDALL_TEST_TMP) / "cli" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string writeFile(const fs::path& path, const std::string& text) {
+    std::ofstream(path) << text;
+    return path.string();
+}
+
+std::vector<std::string> bundledProjects() {
+    std::vector<std::string> out;
+    for (const auto& entry : fs::recursive_directory_iterator(source("projects")))
+        if (entry.path().extension() == ".json") out.push_back(entry.path().string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+TEST(Cli, InfoListsTheReferenceAndItsParameters) {
+    CliRun r = tyndall("info");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("reference"), std::string::npos);
+    EXPECT_NE(r.output.find("distanceSampling"), std::string::npos);
+    CliRun j = tyndall("info --json");
+    EXPECT_EQ(j.exitCode, 0);
+    EXPECT_NE(j.output.find("\"techniques\""), std::string::npos);
+}
+
+TEST(Cli, EveryBundledProjectValidates) {
+    std::vector<std::string> projects = bundledProjects();
+    ASSERT_FALSE(projects.empty());
+    for (const std::string& p : projects) {
+        CliRun r = tyndall("validate '" + p + "'");
+        EXPECT_EQ(r.exitCode, 0) << p << ": " << r.output;
+    }
+}
+
+TEST(Cli, EveryBundledProjectRoundTripsExactly) {
+    fs::path dir = scratch("roundtrip");
+    for (const std::string& p : bundledProjects()) {
+        tyndall::Project project = tyndall::loadProject(p);
+        fs::path once = dir / "once.json", twice = dir / "twice.json";
+        tyndall::saveProject(project, once.string());
+        tyndall::saveProject(tyndall::loadProject(once.string()), twice.string());
+        std::ifstream a(once), b(twice);
+        std::string textA((std::istreambuf_iterator<char>(a)), {}), textB((std::istreambuf_iterator<char>(b)), {});
+        EXPECT_EQ(textA, textB) << p;
+        EXPECT_EQ(tyndall::projectHash(project), tyndall::projectHash(tyndall::loadProject(once.string()))) << p;
+    }
+}
+
+TEST(Cli, RendersTheDefaultProjectsReferenceWithMetadata) {
+    fs::path dir = scratch("render");
+    std::string exr = (dir / "ref.exr").string(), png = (dir / "ref.png").string();
+    CliRun r = tyndall("render '" + source("projects/default.json") + "' --reference --size 32x24 --spp 4 --seed 7 -o '" +
+                    exr + "' -o '" + png + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("wrote"), std::string::npos);
+    ASSERT_TRUE(fs::exists(png));
+    tyndall::Image image = tyndall::readImage(exr);
+    EXPECT_EQ(image.width(), 32);
+    EXPECT_EQ(image.height(), 24);
+    EXPECT_GE(image.channelIndex("variance.R"), 0);
+    EXPECT_EQ(image.metadata.at("technique"), "reference");
+    EXPECT_EQ(image.metadata.at("spp"), "4");
+    EXPECT_EQ(image.metadata.at("seed"), "7");
+    EXPECT_EQ(image.metadata.at("mode"), "single");
+    EXPECT_FALSE(image.metadata.at("projectHash").empty());
+    EXPECT_FALSE(image.metadata.at("tyndallVersion").empty());
+    EXPECT_FALSE(image.metadata.at("renderTime").empty());
+    // The image is not black: the room is lit.
+    double sum = 0.0;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) sum += image.at(x, y, 0) + image.at(x, y, 1) + image.at(x, y, 2);
+    EXPECT_GT(sum, 0.0);
+}
+
+TEST(Cli, RendersAViewsPartOnlyAndTheSetOverridesAField) {
+    fs::path dir = scratch("view");
+    std::string a = (dir / "glow.exr").string(), b = (dir / "glow-dark.exr").string();
+    std::string common = "render '" + source("projects/default.json") + "' --view glow --size 16x12 --spp 2 ";
+    ASSERT_EQ(tyndall(common + "-o '" + a + "'").exitCode, 0);
+    CliRun r = tyndall(common + "--set 'lights[lamp].intensity=[0,0,0]' -o '" + b + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    tyndall::Image lit = tyndall::readImage(a), dark = tyndall::readImage(b);
+    double litSum = 0.0, darkSum = 0.0;
+    for (int y = 0; y < lit.height(); ++y)
+        for (int x = 0; x < lit.width(); ++x) {
+            litSum += lit.at(x, y, 0);
+            darkSum += dark.at(x, y, 0);
+        }
+    EXPECT_GT(litSum, 0.0);
+    EXPECT_EQ(darkSum, 0.0) << "the glow view renders only the lamp, which the override switched off";
+    EXPECT_EQ(lit.metadata.at("view"), "glow");
+}
+
+TEST(Cli, BadInputExitsWithTwoAndSaysWhy) {
+    fs::path dir = scratch("bad");
+    std::string project = source("projects/default.json");
+    struct Case {
+        std::string args, expected;
+    };
+    std::string malformed = writeFile(dir / "malformed.json", "{\n  \"tyndall\": 1,\n  \"camera\": {\n    \"fovY\": ,\n  }\n}\n");
+    const Case cases[] = {
+        {"render '" + project + "' --reference --size 1000000x1000000 -o '" + (dir / "huge.exr").string() + "'", "camera"},
+        {"render '" + project + "' --reference --spp 1 -o '" + (dir / "missing/ref.exr").string() + "'", "does not exist"},
+        {"render '" + project + "' --reference --spp 1 -o '" + (dir / "ref.tiff").string() + "'", ".exr or .png"},
+        {"render '" + project + "' --view nope -o '" + (dir / "v.exr").string() + "'", "no view named 'nope'"},
+        {"render '" + project + "' --reference --set 'camera.fovy=40' -o '" + (dir / "s.exr").string() + "'", "fovY"},
+        {"render '" + project + "' --reference --set 'media[0].sigma_s=[-1,0,0]' -o '" + (dir / "n.exr").string() + "'", "sigma_s"},
+        {"validate '" + malformed + "'", "malformed.json:4:"},
+        {"validate '" + (dir / "absent.json").string() + "'", "absent.json"},
+        {"render --frobnicate", ""},
+        {"compare '" + (dir / "absent.exr").string() + "' -r '" + (dir / "absent.exr").string() + "'", "absent.exr"},
+    };
+    for (const Case& c : cases) {
+        CliRun r = tyndall(c.args);
+        EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
+    }
+    // Nothing was written for the refused renders.
+    for (const char* name : {"huge.exr", "ref.tiff", "v.exr", "s.exr", "n.exr"}) EXPECT_FALSE(fs::exists(dir / name)) << name;
+    EXPECT_FALSE(fs::exists(dir / "missing"));
+}
+
+TEST(Cli, CompareWritesMetricsAndADifferenceImage) {
+    fs::path dir = scratch("compare");
+    std::string project = source("projects/default.json");
+    std::string ref = (dir / "ref.exr").string(), img = (dir / "img.exr").string();
+    ASSERT_EQ(tyndall("render '" + project + "' --reference --size 24x18 --spp 16 -o '" + ref + "'").exitCode, 0);
+    ASSERT_EQ(tyndall("render '" + project + "' --reference --size 24x18 --spp 2 --seed 9 -o '" + img + "'").exitCode, 0);
+    std::string json = (dir / "m.json").string(), csv = (dir / "m.csv").string(), diff = (dir / "{name}-diff.png").string();
+    CliRun r = tyndall("compare '" + img + "' '" + ref + "' -r '" + ref + "' --json '" + json + "' --csv '" + csv +
+                    "' --diff '" + diff + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("reference noise"), std::string::npos);
+    ASSERT_TRUE(fs::exists(json));
+    ASSERT_TRUE(fs::exists(csv));
+    EXPECT_TRUE(fs::exists(dir / "img-diff.png"));
+    EXPECT_TRUE(fs::exists(dir / "ref-diff.png"));
+    std::ifstream in(json);
+    nlohmann::json metrics = nlohmann::json::parse(in);
+    ASSERT_EQ(metrics["images"].size(), 2u);
+    EXPECT_GT(metrics["images"][0]["rmse"].get<double>(), 0.0) << "a 2 spp image differs from a 16 spp one";
+    EXPECT_EQ(metrics["images"][1]["rmse"].get<double>(), 0.0) << "the reference against itself";
+    EXPECT_EQ(metrics["images"][1]["psnr"], "inf");
+}
+
+}  // namespace
