@@ -133,6 +133,10 @@ public:
     // Radiance (W/(m^2 sr)) arriving at `origin` along -dir, one sample.
     vec3 radiance(const vec3& origin, const vec3& dir, SampleStream& samples) const;
 
+    // The renderer's shadow query: 0 when a surface blocks [offset, distance) of the ray, else the transmittance
+    // through the media along it (distance may be infinite). Public for benchmarks.
+    vec3 shadowTransmittance(const vec3& x, const vec3& wi, float distance, float offset) const;
+
 private:
     struct Segment;
     void buildSegment(const vec3& origin, const vec3& dir, float tMax, Segment& segment) const;
@@ -145,7 +149,6 @@ private:
     struct LightSample;
     bool sampleLight(int light, const vec3& x, const vec2& u, LightSample& ls) const;
     float lightPdf(int light, const vec3& x, const vec3& wi) const;
-    vec3 shadowTransmittance(const vec3& x, const vec3& wi, float distance, float offset) const;
     bool lightTargetedTechnique(int light, const Segment& segment, float& a, float& b) const;
     float lightTargetedSample(int light, const Segment& segment, float u, float& pdf) const;
     float lightTargetedPdf(int light, const Segment& segment, float t) const;
