@@ -52,8 +52,7 @@ Project projectFromJson(const nlohmann::json& json, const std::string& pathForEr
 // writable; the previous file is untouched on failure.
 void saveProject(const Project& project, const std::string& path);
 
-// A stable hash of everything that determines a render of `view` (its part of the scene, technique, parameters), for
-// metadata and caches.
+// A stable hash (16 hex digits, FNV-1a over the saved JSON) of the whole project, for render metadata and caches.
 std::string projectHash(const Project& project);
 
 // The part a view renders: its explicit part, or the default part of its technique.

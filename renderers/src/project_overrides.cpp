@@ -1,0 +1,205 @@
+// --set overrides: "path=value" applied to a project's JSON before it is validated. A path is keys separated by dots,
+// with [i] selecting an array element by index and [name] by its "name" (docs/project-format.md).
+#include "project_internal.h"
+
+#include "tyndall/technique.h"
+
+#include <cctype>
+
+namespace tyndall {
+
+namespace {
+
+using nlohmann::json;
+
+struct PathStep {
+    enum class Type { Key, Index, Name };
+    Type type = Type::Key;
+    std::string key;  // Key: the key; Name: the element's name
+    std::size_t index = 0;
+};
+
+[[noreturn]] void failOverride(const std::string& path, const std::string& message) {
+    throw InputError(InputLocation{.field = "--set " + path}, message);
+}
+
+std::string trimmed(const std::string& s) {
+    const auto first = s.find_first_not_of(" \t");
+    if (first == std::string::npos) return "";
+    return s.substr(first, s.find_last_not_of(" \t") - first + 1);
+}
+
+bool allDigits(const std::string& s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+
+std::vector<PathStep> parsePath(const std::string& path) {
+    std::vector<PathStep> steps;
+    std::size_t i = 0;
+    while (i < path.size()) {
+        if (path[i] == '[') {
+            const std::size_t close = path.find(']', i);
+            if (close == std::string::npos) failOverride(path, "'[' without a matching ']'");
+            const std::string inside = path.substr(i + 1, close - i - 1);
+            if (inside.empty()) failOverride(path, "empty [] in the path; use [index] or [name]");
+            if (allDigits(inside)) {
+                steps.push_back({PathStep::Type::Index, "", std::stoul(inside)});
+            } else {
+                steps.push_back({PathStep::Type::Name, inside});
+            }
+            i = close + 1;
+            continue;
+        }
+        if (path[i] == '.') {
+            if (steps.empty()) failOverride(path, "the path starts with '.'");
+            ++i;
+        } else if (!steps.empty()) {
+            failOverride(path, "expected '.' or '[' after '" + path.substr(0, i) + "'");
+        }
+        const std::size_t end = path.find_first_of(".[", i);
+        const std::string key = path.substr(i, end == std::string::npos ? std::string::npos : end - i);
+        if (key.empty()) failOverride(path, "empty key in the path");
+        steps.push_back({PathStep::Type::Key, key});
+        i = end == std::string::npos ? path.size() : end;
+    }
+    if (steps.empty() || steps.front().type != PathStep::Type::Key)
+        failOverride(path, "the path must start with a key");
+    return steps;
+}
+
+// A value is JSON when it parses as JSON, otherwise the text itself: `name=fog` needs no quotes.
+json parseValue(const std::string& text) {
+    try {
+        return json::parse(text);
+    } catch (const json::exception&) {
+        return json(text);
+    }
+}
+
+std::string describeLocation(const std::string& where) {
+    return where.empty() ? "the project" : "'" + where + "'";
+}
+
+// "; did you mean 'x'?" or, when nothing is close, the list of what is allowed.
+std::string suggestion(const std::string& key, const std::vector<std::string>& known) {
+    const std::string nearest = nearestName(key, known);
+    if (!nearest.empty()) return "; did you mean '" + nearest + "'?";
+    std::string list;
+    for (const std::string& name : known)
+        list += (list.empty() ? "" : ", ") + name;
+    return list.empty() ? "" : "; allowed: " + list;
+}
+
+// The technique parameters a view may set, or nullopt when its technique is unknown (validation reports that later).
+std::optional<std::vector<std::string>> parameterNames(const json* view) {
+    if (!view || !view->contains("technique") || !(*view)["technique"].is_string()) return std::nullopt;
+    const std::string technique = (*view)["technique"].get<std::string>();
+    if (!hasTechnique(technique)) return std::nullopt;
+    std::vector<std::string> names;
+    for (const ParamInfo& info : createTechnique(technique)->parameters())
+        names.push_back(info.name);
+    return names;
+}
+
+// Walks the JSON tree along the path, following the project schema so that missing keys with defaults can be set.
+class OverrideWalker {
+public:
+    OverrideWalker(json& root, std::string path) : node_(&root), path_(std::move(path)) {}
+
+    void apply(const std::vector<PathStep>& steps, const json& value) {
+        for (std::size_t i = 0; i < steps.size(); ++i) {
+            const bool last = i + 1 == steps.size();
+            if (steps[i].type == PathStep::Type::Key) {
+                if (!stepIntoKey(steps[i].key, last, value)) return;
+            } else {
+                stepIntoElement(steps[i]);
+            }
+        }
+        *node_ = value;
+    }
+
+private:
+    KeySpec findKey(const std::string& key) const {
+        if (kind_ == ObjectKind::Parameters) {
+            const auto names = parameterNames(view_);
+            if (names && std::find(names->begin(), names->end(), key) == names->end()) {
+                failOverride(
+                    path_, "unknown parameter '" + key + "' in " + describeLocation(where_) + suggestion(key, *names));
+            }
+            return {""};
+        }
+        const ObjectKind kind = kind_ == ObjectKind::Light ? lightKind(*node_) : kind_;
+        for (const KeySpec& spec : keySpecs(kind)) {
+            if (key == spec.name) return spec;
+        }
+        failOverride(path_,
+                     "unknown key '" + key + "' in " + describeLocation(where_) + suggestion(key, keyNames(kind)));
+    }
+
+    // Returns false when the key was missing and has been created with the value.
+    bool stepIntoKey(const std::string& key, bool last, const json& value) {
+        if (!node_->is_object()) failOverride(path_, describeLocation(where_) + " is not an object");
+        const KeySpec spec = findKey(key);
+        if (!node_->contains(key)) {
+            if (last) {
+                (*node_)[key] = value;
+                return false;
+            }
+            if (spec.child == ObjectKind::None || spec.array) {
+                failOverride(path_, "'" + key + "' is not in " + describeLocation(where_) + ", so it has no elements");
+            }
+            (*node_)[key] = json::object();
+        }
+        if (kind_ == ObjectKind::View && key == "parameters") view_ = node_;
+        node_ = &(*node_)[key];
+        kind_ = spec.child;
+        where_ = where_.empty() ? key : where_ + "." + key;
+        return true;
+    }
+
+    void stepIntoElement(const PathStep& step) {
+        if (!node_->is_array()) failOverride(path_, describeLocation(where_) + " is not an array");
+        const std::size_t index = step.type == PathStep::Type::Index ? step.index : indexOfName(step.key);
+        if (index >= node_->size()) {
+            failOverride(path_, "index " + std::to_string(index) + " is out of range: " + describeLocation(where_) +
+                                    " has " + std::to_string(node_->size()) + " elements");
+        }
+        node_ = &(*node_)[index];
+        where_ += "[" + std::to_string(index) + "]";
+    }
+
+    std::size_t indexOfName(const std::string& name) const {
+        std::vector<std::string> names;
+        for (std::size_t i = 0; i < node_->size(); ++i) {
+            const json& element = (*node_)[i];
+            if (!element.is_object() || !element.contains("name") || !element["name"].is_string()) continue;
+            if (element["name"] == name) return i;
+            names.push_back(element["name"].get<std::string>());
+        }
+        failOverride(
+            path_, "no element of " + describeLocation(where_) + " is named '" + name + "'" + suggestion(name, names));
+    }
+
+    json* node_;
+    ObjectKind kind_ = ObjectKind::Project;  // of the object at node_, or of the elements of the array at node_
+    const json* view_ = nullptr;             // the view whose parameters are being set
+    std::string where_;                      // the path walked so far, with indices
+    std::string path_;                       // the whole path, as given
+};
+
+void applyOverride(json& root, const std::string& override) {
+    const std::size_t equals = override.find('=');
+    if (equals == std::string::npos) failOverride(override, "expected path=value, e.g. camera.fovY=50");
+    const std::string path = trimmed(override.substr(0, equals));
+    const std::vector<PathStep> steps = parsePath(path);
+    OverrideWalker(root, path).apply(steps, parseValue(override.substr(equals + 1)));
+}
+
+}  // namespace
+
+void applyOverrides(json& root, const std::vector<std::string>& overrides) {
+    for (const std::string& override : overrides)
+        applyOverride(root, override);
+}
+
+}  // namespace tyndall
