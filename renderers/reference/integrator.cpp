@@ -52,9 +52,10 @@ float polynomialValue(const std::vector<float>& c, float mu) {
 }
 
 // Solid angles of the fan triangles (v0, vi, vi+1) of a convex polygon seen from x; returns their sum.
-float fanSolidAngles(const PreparedAreaLight& light, const vec3& x, float* out) {
+float fanSolidAngles(const PreparedAreaLight& light, const vec3& x, std::vector<float>& out) {
     vec3 a = glm::normalize(light.vertices[0] - x);
     float total = 0.0f;
+    out.resize(light.vertices.size() - 2);
     for (size_t i = 1; i + 1 < light.vertices.size(); ++i) {
         vec3 b = glm::normalize(light.vertices[i] - x);
         vec3 c = glm::normalize(light.vertices[i + 1] - x);
@@ -64,8 +65,6 @@ float fanSolidAngles(const PreparedAreaLight& light, const vec3& x, float* out) 
     }
     return total;
 }
-
-constexpr int kMaxPolygonVertices = 64;
 
 }  // namespace
 
@@ -203,8 +202,7 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
     }
     for (const AreaLight& l : scene.areaLights) {
         PreparedAreaLight p;
-        TY_CHECK(l.vertices.size() >= 3 && l.vertices.size() <= size_t(kMaxPolygonVertices),
-                 "area lights have 3 to 64 vertices");
+        TY_CHECK(l.vertices.size() >= 3, "area lights have at least 3 vertices");
         Vec3 centroid(0.0);
         for (const Vec3& v : l.vertices) {
             p.vertices.push_back(toVec3(v));
@@ -426,17 +424,18 @@ vec3 Integrator::inScattering(const Segment& segment, float t, float mu) const {
 vec3 Integrator::sampleScatteringDirection(const Segment& segment, float t, const vec2& u, float& pdf) const {
     vec3 x = segment.origin + t * segment.dir;
     float total = 0.0f;
-    float weights[64];
-    int count = 0;
+    thread_local std::vector<float> weights;
+    weights.clear();
     for (const Span& s : segment.spans) {
         float w = 0.0f;
         if (t >= s.t0 && t < s.t1) {
             const PreparedMedium& m = scene_.media[s.medium];
             w = average(m.sigma_s) * (s.particle < 0 ? 1.0f : particleExtinction(scene_.particles[s.particle], x));
         }
-        if (count < 64) weights[count++] = w;
+        weights.push_back(w);
         total += w;
     }
+    const int count = int(weights.size());
     pdf = 0.0f;
     if (total <= 0.0f) return vec3(0.0f);
     float target = u.x * total;
@@ -518,7 +517,7 @@ bool Integrator::sampleLight(int light, const vec3& x, const vec2& u, LightSampl
     const PreparedAreaLight& a = scene_.areaLights[light - nPoint - nDir];
     float side = glm::dot(x - a.vertices[0], a.normal);
     if (side == 0.0f || (!a.twoSided && side < 0.0f)) return false;
-    float omegas[kMaxPolygonVertices];
+    thread_local std::vector<float> omegas;
     float total = fanSolidAngles(a, x, omegas);
     if (total <= 1e-9f) return false;
     float target = u.x * total;
@@ -534,6 +533,7 @@ bool Integrator::sampleLight(int light, const vec3& x, const vec2& u, LightSampl
     vec3 A = glm::normalize(a.vertices[0] - x), B = glm::normalize(a.vertices[tri + 1] - x),
          C = glm::normalize(a.vertices[tri + 2] - x);
     ls.wi = shader::sampleSphericalTriangle(A, B, C, vec2(ux, u.y), omega);
+    if (omega <= 1e-7f) return false;  // a degenerate sliver (solid angle below 1e-7 sr): no usable direction
     float cosLight = glm::dot(ls.wi, a.normal);
     if (cosLight == 0.0f) return false;
     ls.distance = -side / cosLight;
@@ -557,7 +557,7 @@ float Integrator::lightPdf(int light, const vec3& x, const vec3& wi) const {
         vec3 e = a.vertices[(i + 1) % n] - a.vertices[i];
         if (glm::dot(glm::cross(e, p - a.vertices[i]), a.normal) < 0.0f) return 0.0f;
     }
-    float omegas[kMaxPolygonVertices];
+    thread_local std::vector<float> omegas;
     float total = fanSolidAngles(a, x, omegas);
     return total > 1e-9f ? 1.0f / total : 0.0f;
 }
@@ -671,9 +671,11 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
         vec3 x{0.0f};
         float pDistance = 0.0f;   // medium: delta-tracking pdf of the vertex (0 when T1 was off)
         float pDirection = 0.0f;  // pdf of the sampled direction (phase mixture or BSDF)
-        float pTargeted[16] = {}; // medium: light-targeted pdfs of the vertex per area light (0 when T2 was off)
-        bool t1[16] = {};
+        std::vector<float> pTargeted;  // medium: light-targeted pdfs of the vertex per area light (0 when T2 was off)
+        std::vector<char> t1;          // medium: whether T1 was on per area light
     } pending;
+    pending.pTargeted.resize(scene_.areaLights.size());
+    pending.t1.resize(scene_.areaLights.size());
 
     vec3 L(0.0f), beta(1.0f);
     vec3 origin = cameraOrigin, dir = cameraDir;
@@ -823,14 +825,13 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
             if (!(pPhase > 0.0f) || !(pD > 0.0f)) break;
             float mu = glm::dot(dir, wi);
             beta *= transmittance(segment, 0.0f, tc) * inScattering(segment, tc, mu) / (pD * pPhase);
-            pending = Pending{};
             pending.active = areaPhase;
             pending.medium = true;
             pending.x = x;
             pending.pDistance = pD;
             pending.pDirection = pPhase;
             int firstArea = int(scene_.pointLights.size() + scene_.directionalLights.size());
-            for (int l = firstArea; l < nLights && l - firstArea < 16; ++l) {
+            for (int l = firstArea; l < nLights; ++l) {
                 float a, b;
                 bool available = lightTargetedTechnique(l, segment, a, b);
                 pending.t1[l - firstArea] = t1Enabled(l, available);
@@ -850,9 +851,9 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
             vec3 wi = wiLocal.x * tangent + wiLocal.y * bitangent + wiLocal.z * n;
             if (glm::dot(wi, ng) <= 0.0f) break;
             beta *= (Ts / pReach) * shader::bsdfEval(material, woLocal, wiLocal) * (wiLocal.z / pB);
-            pending = Pending{};
             pending.active = areaPhase;
             pending.medium = false;
+            pending.pDistance = 0.0f;
             pending.x = xs + ng * offset;
             pending.pDirection = pB;
             origin = xs + ng * offset;

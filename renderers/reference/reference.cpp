@@ -41,8 +41,8 @@ std::vector<ParamInfo> ReferenceTechnique::parameters() const {
         ParamInfo i;
         i.name = "distanceSampling";
         i.type = ParamType::Enum;
-        i.doc = "how scattering distances are chosen: MIS of both, delta tracking only, or light-targeted only "
-                "(equiangular for point and area lights, uniform in a directional light's beam)";
+        i.doc = "how scattering distances for light sampling are chosen: MIS of both, delta tracking only, or "
+                "light-targeted where available (equiangular for point and area lights, uniform in a beam)";
         i.enumValues = {"mis", "distance", "equiangular"};
         i.defaultValue = std::string("mis");
         p.push_back(i);

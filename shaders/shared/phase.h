@@ -75,11 +75,14 @@ TY_FUNC float phaseEval(TY_IN(PhaseParams) p, float mu) {
     return kInvFourPi;
 }
 
-// mu distributed as HG(g), by inverting its CDF.
+// mu distributed as HG(g), by inverting its CDF. With xi = 2u - 1 the inverse (1 + g^2 - s^2) / (2g),
+// s = (1 - g^2) / (1 + g xi), expands without cancellation to the form below, exact for every g including 0
+// (derivation in docs/conventions.md).
 TY_FUNC float sampleHenyeyGreensteinMu(float g, float u) {
-    if (abs(g) < 1e-3f) return 1.0f - 2.0f * u;
-    float s = (1.0f - g * g) / (1.0f - g + 2.0f * g * u);
-    return clamp((1.0f + g * g - s * s) / (2.0f * g), -1.0f, 1.0f);
+    float xi = 2.0f * u - 1.0f;
+    float d = 1.0f + g * xi;
+    float numerator = xi + 0.5f * g * (xi * xi + 3.0f) + g * g * xi + 0.5f * g * g * g * (xi * xi - 1.0f);
+    return clamp(numerator / (d * d), -1.0f, 1.0f);
 }
 
 // mu with density (3/8)(1 + mu^2): the real root of mu^3 + 3 mu + 4 - 8u = 0, mu = A - 1/A with

@@ -51,11 +51,14 @@ struct Equiangular {
 };
 
 TY_FUNC Equiangular equiangularSetup(TY_IN(vec3) origin, TY_IN(vec3) dir, TY_IN(vec3) light, float ta, float tb) {
+    // atan of a far end rounds to float(pi/2) = 1.5707964, which lies above pi/2: its tangent is -2.3e7, and samples
+    // near that end would land far outside [ta, tb]. Keep both angles strictly inside (-pi/2, pi/2).
+    const float kBelowHalfPi = 1.57079625f;  // the largest float below pi/2
     Equiangular e;
     e.t0 = dot(light - origin, dir);
     e.h = max(length(origin + e.t0 * dir - light), 1e-7f);
-    e.thetaA = atan(ta - e.t0, e.h);
-    e.thetaB = tb >= kInfinity ? 0.5f * kPi : atan(tb - e.t0, e.h);
+    e.thetaA = clamp(atan(ta - e.t0, e.h), -kBelowHalfPi, kBelowHalfPi);
+    e.thetaB = tb >= kInfinity ? kBelowHalfPi : clamp(atan(tb - e.t0, e.h), -kBelowHalfPi, kBelowHalfPi);
     return e;
 }
 

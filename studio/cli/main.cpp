@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--exposure", render.exposure, "exposure in stops for PNG output (default: the view's)");
 
     ValidateArgs validate;
-    CLI::App* validateCmd = app.add_subcommand("validate", "check project files and report every problem");
+    CLI::App* validateCmd = app.add_subcommand("validate", "check project files; each problem names the file, the field and what is allowed");
     validateCmd->add_option("projects", validate.projects, "project files")->required();
     validateCmd->add_option("--set", validate.sets, "override a project field: path=value");
 

@@ -35,7 +35,7 @@ public:
     // Appends channels (initialised to zero) and returns the index of the first.
     int addChannels(const std::vector<std::string>& names);
 
-    // String metadata written into EXR headers: technique, parameters, spp, time, seed, project hash, version.
+    // String metadata written into EXR headers: technique, parameters, spp, renderTime, seed, projectHash, tyndallVersion.
     std::map<std::string, std::string> metadata;
 
 private:
