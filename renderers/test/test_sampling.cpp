@@ -1,1 +1,896 @@
+// Tests of the sampling math shared by GLSL and C++: the chi-square helpers of stats.h themselves, the direction
+// samplers and frames of shaders/shared/sampling.h, equiangular and spherical-triangle sampling, the GGX and Lambertian
+// BSDFs of bsdf.h (normalisation, furnace tests, samplers), and the random numbers of rng.h (PCG32, Sobol nets).
+#include "shared/bsdf.h"
+#include "shared/rng.h"
+#include "shared/sampling.h"
+
+#include "stats.h"
+
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tyndall {
+namespace {
+
+namespace sh = tyndall::shader;
+
+using glm::dvec3;
+
+constexpr double kPi = std::numbers::pi;
+
+// Every chi-square test below runs several configurations; each is tested at kFamilyAlpha / configurations
+// (Bonferroni), so that a correct sampler fails a whole test with probability below kFamilyAlpha.
+constexpr double kFamilyAlpha = 1e-3;
+
+sh::vec2 nextVec2(sh::Pcg32& rng) {
+    return sh::vec2(sh::pcg32NextFloat(rng), sh::pcg32NextFloat(rng));
+}
+
+// A unit direction from spherical coordinates about +z.
+dvec3 fromSpherical(double cosTheta, double phi) {
+    const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
+    return dvec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+}
+
+// The azimuth of d about +z, in [0, 2 pi).
+double azimuth(const dvec3& d) {
+    const double phi = std::atan2(d.y, d.x);
+    return phi < 0.0 ? phi + 2.0 * kPi : phi;
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// stats.h: the incomplete gamma function and the chi-square test
+
+// Q(n, x) for integer n in closed form: e^-x sum_{k < n} x^k / k!.
+double gammaQIntegerReference(int n, double x) {
+    double term = 1.0, sum = 1.0;
+    for (int k = 1; k < n; ++k) {
+        term *= x / k;
+        sum += term;
+    }
+    return std::exp(-x) * sum;
+}
+
+// Against closed forms (Q(1, x) = e^-x, Q(1/2, x) = erfc(sqrt(x)), Q(n, x) for integer n) on both sides of x = a + 1,
+// where the implementation switches from the series to the continued fraction, and against tabulated chi-square
+// critical values. Tolerance 1e-10 relative (1e-6 for the tables, given to 7 digits): both methods converge to ~1e-15.
+TEST(SamplingStats, IncompleteGammaMatchesKnownValues) {
+    for (double x : {0.0, 0.01, 0.5, 1.0, 2.5, 7.0, 30.0}) {
+        SCOPED_TRACE(x);
+        EXPECT_NEAR(test::regularizedGammaQ(1.0, x), std::exp(-x), 1e-10 * std::exp(-x));
+        EXPECT_NEAR(test::regularizedGammaQ(0.5, x), std::erfc(std::sqrt(x)), 1e-10 * std::erfc(std::sqrt(x)));
+    }
+    for (int n : {2, 5, 25, 100}) {
+        for (double scale : {0.3, 0.9, 1.0, 1.1, 1.5, 3.0}) {
+            const double x = scale * n;
+            SCOPED_TRACE(std::to_string(n) + ", " + std::to_string(x));
+            const double reference = gammaQIntegerReference(n, x);
+            EXPECT_NEAR(test::regularizedGammaQ(n, x), reference, 1e-10 * reference + 1e-300);
+        }
+    }
+    EXPECT_NEAR(test::chiSquarePValue(3.841459, 1), 0.05, 1e-6);
+    EXPECT_NEAR(test::chiSquarePValue(6.634897, 1), 0.01, 1e-6);
+    EXPECT_NEAR(test::chiSquarePValue(18.307038, 10), 0.05, 1e-6);
+    EXPECT_NEAR(test::chiSquarePValue(124.342113, 100), 0.05, 1e-6);
+}
+
+TEST(SamplingStats, ChiSquarePoolsSparseBinsAndRejectsImpossibleSamples) {
+    // A perfect fit.
+    test::ChiSquareResult fit = test::chiSquareTest({10, 20, 30, 40}, {10, 20, 30, 40});
+    EXPECT_EQ(fit.statistic, 0.0);
+    EXPECT_EQ(fit.dof, 3);
+    EXPECT_NEAR(fit.pValue, 1.0, 1e-12);
+
+    // Bins expected to hold 1, 2 and 3 samples pool into one bin of 6: (7 - 6)^2 / 6 + 0 + 0, 2 degrees of freedom.
+    test::ChiSquareResult pooled = test::chiSquareTest({2, 2, 3, 50, 100}, {1, 2, 3, 50, 100});
+    EXPECT_EQ(pooled.mergedBins, 3);
+    EXPECT_EQ(pooled.dof, 2);
+    EXPECT_NEAR(pooled.statistic, 1.0 / 6.0, 1e-12);
+
+    // A pool still short of 5 joins the smallest regular bin: observed 1 + 9, expected 1 + 10, so (10 - 11)^2 / 11.
+    test::ChiSquareResult joined = test::chiSquareTest({1, 9, 100}, {1, 10, 100});
+    EXPECT_EQ(joined.dof, 1);
+    EXPECT_NEAR(joined.statistic, 1.0 / 11.0, 1e-12);
+
+    // A sample where nothing is expected fails outright, even if pooling would hide it.
+    test::ChiSquareResult impossible = test::chiSquareTest({1, 50, 50}, {0, 50, 51});
+    EXPECT_EQ(impossible.pValue, 0.0);
+    EXPECT_FALSE(impossible.failure.empty());
+}
+
+// For samples that do follow the expected distribution, p-values are uniform on [0, 1]: 400 multinomial histograms
+// (a third of the bins sparse, so pooling is exercised) must give about 40 p-values below 0.1. The count is binomial
+// (400, 0.1), standard deviation 6; [16, 64] is +/- 4 standard deviations. Deterministic with the fixed seed.
+TEST(SamplingStats, ChiSquarePValuesAreUniformUnderTheNullHypothesis) {
+    std::vector<double> probabilities;
+    for (int i = 0; i < 30; ++i)
+        probabilities.push_back(i < 10 ? 0.002 : 1.0 + 0.1 * i);
+    double sum = 0.0;
+    for (double p : probabilities)
+        sum += p;
+    for (double& p : probabilities)
+        p /= sum;
+
+    const int sampleCount = 1000;
+    std::vector<double> expected;
+    for (double p : probabilities)
+        expected.push_back(p * sampleCount);
+
+    sh::Pcg32 rng = sh::pcg32Seed(5u, 6u);
+    int small = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        std::vector<double> observed(probabilities.size(), 0.0);
+        for (int i = 0; i < sampleCount; ++i) {
+            double u = sh::pcg32NextFloat(rng);
+            size_t bin = 0;
+            while (bin + 1 < probabilities.size() && u >= probabilities[bin])
+                u -= probabilities[bin++];
+            observed[bin] += 1.0;
+        }
+        if (test::chiSquareTest(observed, expected).pValue < 0.1) ++small;
+    }
+    EXPECT_GE(small, 16);
+    EXPECT_LE(small, 64);
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Sphere and hemisphere sampling, frames
+
+// Chi-square in (cos theta, phi), 20 x 10 bins, 1M samples (5000 per bin: a 3% error in the density is detected).
+TEST(SamplingUniformSphere, MatchesPdf) {
+    const int sampleCount = 1000000;
+    test::Histogram2D histogram(test::Grid2D{-1.0, 1.0, 20, 0.0, 2.0 * kPi, 10});
+    sh::Pcg32 rng = sh::pcg32Seed(11u, 0u);
+    for (int i = 0; i < sampleCount; ++i) {
+        const dvec3 d(sh::sampleUniformSphere(nextVec2(rng)));
+        ASSERT_NEAR(glm::length(d), 1.0, 1e-6);
+        histogram.add(d.z, azimuth(d));
+    }
+    EXPECT_EQ(histogram.outside, 0);
+    const auto expected = histogram.grid.expectedCounts([](double, double) { return 1.0 / (4.0 * kPi); }, sampleCount);
+    const test::ChiSquareResult chi2 = test::chiSquareTest(histogram.counts, expected);
+    EXPECT_GT(chi2.pValue, kFamilyAlpha) << chi2.describe();
+}
+
+// As above, for the density cos(theta) / pi.
+TEST(SamplingCosineHemisphere, MatchesPdf) {
+    const int sampleCount = 1000000;
+    test::Histogram2D histogram(test::Grid2D{0.0, 1.0, 20, 0.0, 2.0 * kPi, 10});
+    sh::Pcg32 rng = sh::pcg32Seed(12u, 0u);
+    for (int i = 0; i < sampleCount; ++i) {
+        const dvec3 d(sh::sampleCosineHemisphere(nextVec2(rng)));
+        ASSERT_NEAR(glm::length(d), 1.0, 1e-6);
+        ASSERT_GE(d.z, 0.0);
+        histogram.add(d.z, azimuth(d));
+    }
+    EXPECT_EQ(histogram.outside, 0);
+    const auto expected =
+        histogram.grid.expectedCounts([](double cosTheta, double) { return cosTheta / kPi; }, sampleCount);
+    const test::ChiSquareResult chi2 = test::chiSquareTest(histogram.counts, expected);
+    EXPECT_GT(chi2.pValue, kFamilyAlpha) << chi2.describe();
+}
+
+// buildFrame(n) gives t, b with (t, b, n) orthonormal and right-handed (t x b = n), for random n and for the normals
+// where naive constructions break: the poles, n = (0, 0, -1) and normals just off it, and n.z = -0 (a sign flip).
+// Tolerance 1e-5: a few float roundings on unit-length values.
+TEST(SamplingBuildFrame, OrthonormalRightHanded) {
+    std::vector<sh::vec3> normals = {{0, 0, 1},  {0, 0, -1},          {1, 0, 0},
+                                     {0, -1, 0}, {0.6f, 0.8f, -0.0f}, {0.6f, -0.8f, 0.0f}};
+    for (float epsilon : {1e-2f, 1e-4f, 1e-6f, 1e-8f, 1e-20f}) {
+        normals.push_back(glm::normalize(sh::vec3(epsilon, epsilon, -1.0f)));
+        normals.push_back(glm::normalize(sh::vec3(-epsilon, 0.5f * epsilon, -1.0f)));
+        normals.push_back(glm::normalize(sh::vec3(epsilon, -epsilon, 1.0f)));
+        normals.push_back(glm::normalize(sh::vec3(0.6f, 0.8f, -epsilon)));
+    }
+    sh::Pcg32 rng = sh::pcg32Seed(13u, 0u);
+    for (int i = 0; i < 10000; ++i)
+        normals.push_back(sh::sampleUniformSphere(nextVec2(rng)));
+    for (const sh::vec3& n : normals) {
+        sh::vec3 t, b;
+        sh::buildFrame(n, t, b);
+        SCOPED_TRACE(std::to_string(n.x) + ", " + std::to_string(n.y) + ", " + std::to_string(n.z));
+        ASSERT_NEAR(glm::length(t), 1.0f, 1e-5f);
+        ASSERT_NEAR(glm::length(b), 1.0f, 1e-5f);
+        ASSERT_NEAR(glm::dot(t, b), 0.0f, 1e-5f);
+        ASSERT_NEAR(glm::dot(t, n), 0.0f, 1e-5f);
+        ASSERT_NEAR(glm::dot(b, n), 0.0f, 1e-5f);
+        ASSERT_LT(glm::length(glm::cross(t, b) - n), 1e-5f);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Equiangular sampling
+
+struct EquiangularCase {
+    std::string name;
+    double t0, h;   // foot of the perpendicular and distance of the light from the ray
+    double ta, tb;  // tb may be kInfinity
+};
+
+// A foot inside the interval, intervals entirely before and after the foot, a light close to the ray (a sharp peak),
+// and unbounded intervals starting before and after the foot.
+const std::vector<EquiangularCase> kEquiangularCases = {
+    {"foot inside", 2.0, 0.5, 0.0, 5.0},
+    {"interval before foot", 3.0, 0.4, 0.0, 1.0},
+    {"interval after foot", 2.0, 0.3, 4.0, 9.0},
+    {"light near the ray", 1.5, 0.05, 0.0, 4.0},
+    {"unbounded, foot inside", 2.0, 0.5, 0.0, sh::kInfinity},
+    {"unbounded, after foot", 1.0, 0.25, 3.0, sh::kInfinity},
+};
+
+// Sets up sampling along a general ray (not axis-aligned) whose foot point and light distance are the case's.
+sh::Equiangular setUp(const EquiangularCase& c) {
+    const sh::vec3 origin(0.3f, -0.2f, 0.1f);
+    const sh::vec3 dir = glm::normalize(sh::vec3(1.0f, 0.5f, -0.2f));
+    const sh::vec3 perpendicular = glm::normalize(glm::cross(dir, sh::vec3(0.0f, 0.0f, 1.0f)));
+    const sh::vec3 light = origin + float(c.t0) * dir + float(c.h) * perpendicular;
+    return sh::equiangularSetup(origin, dir, light, float(c.ta), float(c.tb));
+}
+
+bool unbounded(const EquiangularCase& c) {
+    return c.tb >= sh::kInfinity;
+}
+
+// How far float arithmetic may put a sample outside the end x of the interval. The sampler maps an angle theta to
+// t0 + h tan(theta); theta near +/- pi/2 is resolved to ~1.2e-7, and dt/dtheta = h (1 + ((t - t0) / h)^2), so the
+// slack is 4 such steps, plus rounding of t itself (1e-6 relative).
+double endSlack(const EquiangularCase& c, double x) {
+    const double d = (x - c.t0) / c.h;
+    return 4.8e-7 * c.h * (1.0 + d * d) + 1e-6 * (std::abs(x) + std::abs(c.t0));
+}
+
+// A bijection of [ta, inf) onto [0, 1), s = (t - ta) / (t - ta + L), with L the distance scale of the case, so that
+// unbounded intervals can be binned and integrated: a density p(t) becomes p(t(s)) dt/ds, dt/ds = L / (1 - s)^2.
+struct UnitMap {
+    double ta, L;
+    double s(double t) const { return (t - ta) / (t - ta + L); }
+    double t(double s) const { return ta + L * s / (1.0 - s); }
+    double dtds(double s) const { return L / ((1.0 - s) * (1.0 - s)); }
+};
+
+UnitMap unitMap(const EquiangularCase& c) {
+    return {c.ta, std::abs(c.ta - c.t0) + c.h};
+}
+
+// The density of the binned variable: t itself, or s for unbounded intervals. The s-density tends to a finite limit
+// at s = 1 (the pdf falls as 1 / t^2); the quadrature evaluates just short of it.
+double binnedDensity(const EquiangularCase& c, const sh::Equiangular& e, double x) {
+    if (!unbounded(c)) return sh::equiangularPdf(e, float(x));
+    const UnitMap map = unitMap(c);
+    const double s = std::min(x, 1.0 - 1e-9);
+    return sh::equiangularPdf(e, float(map.t(s))) * map.dtds(s);
+}
+
+// Samples lie in [ta, tb] (up to endSlack), for random u and for the extreme inputs u = 0 and the largest floats
+// below 1.
+TEST(Equiangular, SamplesLieInInterval) {
+    for (const EquiangularCase& c : kEquiangularCases) {
+        SCOPED_TRACE(c.name);
+        const sh::Equiangular e = setUp(c);
+        std::vector<float> us = {0.0f, sh::kOneMinusEpsilon};
+        for (int k = 1; k <= 64; ++k)
+            us.push_back(1.0f - static_cast<float>(k) * 0x1p-24f);  // the 64 largest floats below 1
+        sh::Pcg32 rng = sh::pcg32Seed(21u, 0u);
+        for (int i = 0; i < 10000; ++i)
+            us.push_back(sh::pcg32NextFloat(rng));
+        for (float u : us) {
+            float pdf = 0.0f;
+            const float t = sh::equiangularSample(e, u, pdf);
+            ASSERT_TRUE(std::isfinite(t)) << "u = " << u;
+            ASSERT_GE(t, c.ta - endSlack(c, c.ta)) << "u = " << u;
+            if (!unbounded(c)) {
+                ASSERT_LE(t, c.tb + endSlack(c, c.tb)) << "u = " << u;
+            }
+            ASSERT_GT(pdf, 0.0f) << "u = " << u;
+        }
+    }
+}
+
+// Regression: float atan of a far end rounds to float(pi / 2), which lies above pi / 2 and whose tangent is -2.3e7, so
+// with a far end (tb = kInfinity, or finite but 1e30 away) u near 1 used to return t ~2e7 before ta; and with a far
+// start (the light 1e8 light distances ahead of ta) u = 0 returned t ~2e7 past tb. The ray runs along +x from the
+// origin so that t0 and h are exact. Samples must lie in [ta, tb] up to endSlack (capped at 1% of |ta - t0| + h: far
+// from the foot the angle cannot resolve t, but a wrap-around lands ~2e7 away).
+TEST(Equiangular, FarEndsNeverWrapAround) {
+    const std::vector<EquiangularCase> cases = {
+        {"unbounded, 10 h after the foot", 0.0, 1.0, 10.0, sh::kInfinity},
+        {"unbounded, 1000 h after the foot", 0.0, 1.0, 1000.0, sh::kInfinity},
+        {"finite end 1e30 away", 0.0, 1.0, 10.0, 1e30},
+        {"start 1e8 h before the foot", 1e8, 1.0, 0.0, 1e8 + 16.0},
+    };
+    for (const EquiangularCase& c : cases) {
+        SCOPED_TRACE(c.name);
+        const sh::vec3 light(float(c.t0), float(c.h), 0.0f);
+        const sh::Equiangular e =
+            sh::equiangularSetup(sh::vec3(0.0f), sh::vec3(1.0f, 0.0f, 0.0f), light, float(c.ta), float(c.tb));
+        ASSERT_EQ(e.t0, float(c.t0));
+        ASSERT_EQ(e.h, float(c.h));
+        const double cap = 0.01 * (std::abs(c.ta - c.t0) + c.h);
+        for (float u : {0.0f, 1e-7f, 0.5f, 1.0f - 0x1p-23f, sh::kOneMinusEpsilon}) {
+            float pdf = 0.0f;
+            const float t = sh::equiangularSample(e, u, pdf);
+            EXPECT_GE(t, c.ta - std::min(cap, endSlack(c, c.ta))) << "u = " << u;
+            EXPECT_LE(t, c.tb + std::min(cap, endSlack(c, c.tb))) << "u = " << u;
+            EXPECT_GT(pdf, 0.0f) << "u = " << u;
+        }
+    }
+}
+
+// The pdf integrates to 1 over [ta, tb] (unbounded intervals through the bijection). Tolerance 1e-5: the float pdf
+// has ~1e-7 relative error and the quadrature converges to 1e-7 relative; the integral is split at the foot point,
+// where the density peaks.
+TEST(Equiangular, PdfIntegratesToOne) {
+    for (const EquiangularCase& c : kEquiangularCases) {
+        SCOPED_TRACE(c.name);
+        const sh::Equiangular e = setUp(c);
+        const auto density = [&](double x) { return binnedDensity(c, e, x); };
+        double total;
+        if (unbounded(c)) {
+            const UnitMap map = unitMap(c);
+            const double sFoot = std::clamp(map.s(c.t0), 0.0, 1.0);
+            total = test::integrate(density, 0.0, sFoot) + test::integrate(density, sFoot, 1.0);
+        } else {
+            const double foot = std::clamp(c.t0, c.ta, c.tb);
+            total = test::integrate(density, c.ta, foot) + test::integrate(density, foot, c.tb);
+        }
+        EXPECT_NEAR(total, 1.0, 1e-5);
+    }
+}
+
+// Chi-square of sampled t (or s for unbounded intervals) in 50 bins, 1M samples, expected counts from the
+// quadrature of equiangularPdf over each bin. Samples up to 1e-4 of the range outside it are binned at the end (see
+// endSlack; an ulp or so past the end is float rounding, not a wrong distribution).
+TEST(Equiangular, SamplingMatchesPdf) {
+    const int sampleCount = 1000000;
+    const double alpha = kFamilyAlpha / static_cast<double>(kEquiangularCases.size());
+    for (size_t k = 0; k < kEquiangularCases.size(); ++k) {
+        const EquiangularCase& c = kEquiangularCases[k];
+        SCOPED_TRACE(c.name);
+        const sh::Equiangular e = setUp(c);
+        const UnitMap map = unitMap(c);
+        const test::Grid2D grid =
+            unbounded(c) ? test::Grid2D{0.0, 1.0, 50, 0.0, 1.0, 1} : test::Grid2D{c.ta, c.tb, 50, 0.0, 1.0, 1};
+        test::Histogram2D histogram(grid, 1e-4);
+        sh::Pcg32 rng = sh::pcg32Seed(22u, static_cast<sh::uint>(k));
+        for (int i = 0; i < sampleCount; ++i) {
+            float pdf = 0.0f;
+            const double t = sh::equiangularSample(e, sh::pcg32NextFloat(rng), pdf);
+            histogram.add(unbounded(c) ? map.s(t) : t, 0.5);
+        }
+        EXPECT_EQ(histogram.outside, 0);
+        const auto expected =
+            histogram.grid.expectedCounts([&](double x, double) { return binnedDensity(c, e, x); }, sampleCount);
+        const test::ChiSquareResult chi2 = test::chiSquareTest(histogram.counts, expected);
+        EXPECT_GT(chi2.pValue, alpha) << chi2.describe();
+    }
+}
+
+// The pdf returned with a sample equals equiangularPdf at it. Tolerance 1e-4 relative: t = t0 + d rounds d by an ulp
+// of t, which moves the pdf by about ulp(t) / h (1e-5 here).
+TEST(Equiangular, SampledPdfEqualsPdf) {
+    for (const EquiangularCase& c : kEquiangularCases) {
+        SCOPED_TRACE(c.name);
+        const sh::Equiangular e = setUp(c);
+        sh::Pcg32 rng = sh::pcg32Seed(23u, 0u);
+        for (int i = 0; i < 2000; ++i) {
+            float pdf = 0.0f;
+            const float t = sh::equiangularSample(e, sh::pcg32NextFloat(rng), pdf);
+            const float reference = sh::equiangularPdf(e, t);
+            ASSERT_NEAR(pdf, reference, 1e-4f * reference) << "t = " << t;
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Spherical triangles
+
+// A planar triangle seen from the origin; the spherical triangle is its projection on the unit sphere.
+struct TriangleCase {
+    std::string name;
+    std::array<dvec3, 3> p;
+    std::array<sh::vec3, 3> directions() const {
+        return {sh::vec3(glm::normalize(p[0])), sh::vec3(glm::normalize(p[1])), sh::vec3(glm::normalize(p[2]))};
+    }
+};
+
+const std::vector<TriangleCase> kTriangles = {
+    {"small", {dvec3(0.1, 0.0, 8.0), dvec3(0.4, 0.1, 8.1), dvec3(0.2, 0.35, 7.9)}},
+    {"medium", {dvec3(1.0, -0.5, 2.0), dvec3(-0.8, 0.3, 1.5), dvec3(0.2, 1.2, 1.8)}},
+    {"obtuse", {dvec3(-1.5, 0.0, 1.0), dvec3(1.5, 0.0, 1.0), dvec3(0.0, 0.3, 1.0)}},
+    {"large", {dvec3(1.0, 0.0, 0.05), dvec3(-0.5, 0.866, 0.05), dvec3(-0.5, -0.866, 0.05)}},
+};
+
+// Barycentric coordinates (b1, b2) of the ray from the origin along d on the triangle's plane (Moller-Trumbore); false
+// if the ray runs parallel to the plane or meets it behind the origin.
+bool rayPlaneBarycentrics(const dvec3& d, const std::array<dvec3, 3>& p, double& b1, double& b2) {
+    const dvec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+    const dvec3 pvec = glm::cross(d, e2);
+    const double det = glm::dot(e1, pvec);
+    if (std::abs(det) < 1e-300) return false;
+    const dvec3 tvec = -p[0];
+    b1 = glm::dot(tvec, pvec) / det;
+    const dvec3 qvec = glm::cross(tvec, e1);
+    b2 = glm::dot(d, qvec) / det;
+    return glm::dot(e2, qvec) / det > 0.0;
+}
+
+bool hitsTriangle(const dvec3& d, const std::array<dvec3, 3>& p, double slack = 0.0) {
+    double b1 = 0.0, b2 = 0.0;
+    return rayPlaneBarycentrics(d, p, b1, b2) && b1 >= -slack && b2 >= -slack && b1 + b2 <= 1.0 + slack;
+}
+
+// Solid angle by Girard's theorem (angle excess), in double: independent of the header's Van Oosterom-Strackee form.
+double girardSolidAngle(const std::array<dvec3, 3>& p) {
+    const dvec3 a = glm::normalize(p[0]), b = glm::normalize(p[1]), c = glm::normalize(p[2]);
+    const auto angleAt = [](const dvec3& v, const dvec3& x, const dvec3& y) {
+        const dvec3 tx = glm::normalize(x - glm::dot(x, v) * v), ty = glm::normalize(y - glm::dot(y, v) * v);
+        return std::acos(std::clamp(glm::dot(tx, ty), -1.0, 1.0));
+    };
+    return angleAt(a, b, c) + angleAt(b, c, a) + angleAt(c, a, b) - kPi;
+}
+
+// Solid angle by Van Oosterom-Strackee in double, for the sub-triangles of the uniformity test.
+double solidAngle(const dvec3& p0, const dvec3& p1, const dvec3& p2) {
+    const dvec3 a = glm::normalize(p0), b = glm::normalize(p1), c = glm::normalize(p2);
+    const double numerator = std::abs(glm::dot(a, glm::cross(b, c)));
+    return 2.0 * std::atan2(numerator, 1.0 + glm::dot(a, b) + glm::dot(b, c) + glm::dot(c, a));
+}
+
+// sphericalTriangleSolidAngle against (1) Girard's theorem in double, tolerance 2e-6 + 1e-5 relative (float
+// evaluation), and (2) a Monte Carlo estimate, 4 pi times the fraction of 2M uniform directions that hit the planar
+// triangle, within 5 binomial standard errors (two-sided probability 6e-7 per triangle).
+TEST(SphericalTriangle, SolidAngleMatchesGirardAndMonteCarlo) {
+    const int sampleCount = 2000000;
+    for (const TriangleCase& triangle : kTriangles) {
+        SCOPED_TRACE(triangle.name);
+        const auto [a, b, c] = triangle.directions();
+        const double omega = sh::sphericalTriangleSolidAngle(a, b, c);
+        const double girard = girardSolidAngle(triangle.p);
+        EXPECT_NEAR(omega, girard, 2e-6 + 1e-5 * girard);
+
+        sh::Pcg32 rng = sh::pcg32Seed(31u, 0u);
+        int hits = 0;
+        for (int i = 0; i < sampleCount; ++i)
+            hits += hitsTriangle(dvec3(sh::sampleUniformSphere(nextVec2(rng))), triangle.p) ? 1 : 0;
+        const double fraction = double(hits) / sampleCount;
+        const double standardError = 4.0 * kPi * std::sqrt(fraction * (1.0 - fraction) / sampleCount);
+        EXPECT_NEAR(omega, 4.0 * kPi * fraction, 5.0 * standardError) << hits << " hits";
+    }
+}
+
+// Every sampled direction hits the triangle, and the solid angle returned matches sphericalTriangleSolidAngle.
+// Slack in barycentric coordinates 1e-6 + 5e-7 / l^2, l the shortest edge's arc: Arvo's construction places C' on edge
+// AC through q = cos(arc AC'), which float resolves to ~1e-7 absolute, i.e. to ~1e-7 / l^2 relative along the edge
+// (1.3e-4 seen for the small triangle, l = 0.04; below 1e-6 for the others). The returned solid angle comes from the
+// angle excess, which loses ~1e-7 absolute per angle: tolerance 2e-6 + 1e-5 relative.
+TEST(SphericalTriangle, SamplesHitTheTriangle) {
+    for (const TriangleCase& triangle : kTriangles) {
+        SCOPED_TRACE(triangle.name);
+        const auto [a, b, c] = triangle.directions();
+        const double omega = sh::sphericalTriangleSolidAngle(a, b, c);
+        double shortestArc = kPi;
+        for (int k = 0; k < 3; ++k) {
+            const double cosArc = glm::dot(glm::normalize(triangle.p[k]), glm::normalize(triangle.p[(k + 1) % 3]));
+            shortestArc = std::min(shortestArc, std::acos(std::clamp(cosArc, -1.0, 1.0)));
+        }
+        const double slack = 1e-6 + 5e-7 / (shortestArc * shortestArc);
+        std::vector<sh::vec2> us = {{0.0f, 0.0f},
+                                    {sh::kOneMinusEpsilon, 0.0f},
+                                    {0.0f, sh::kOneMinusEpsilon},
+                                    {sh::kOneMinusEpsilon, sh::kOneMinusEpsilon},
+                                    {0.5f, 0.5f}};
+        sh::Pcg32 rng = sh::pcg32Seed(32u, 0u);
+        for (int i = 0; i < 20000; ++i)
+            us.push_back(nextVec2(rng));
+        for (const sh::vec2& u : us) {
+            float sampledSolidAngle = 0.0f;
+            const dvec3 d(sh::sampleSphericalTriangle(a, b, c, u, sampledSolidAngle));
+            ASSERT_NEAR(glm::length(d), 1.0, 1e-6);
+            ASSERT_TRUE(hitsTriangle(d, triangle.p, slack)) << "u = " << u.x << ", " << u.y;
+            ASSERT_NEAR(sampledSolidAngle, omega, 2e-6 + 1e-5 * omega);
+        }
+    }
+}
+
+// Uniformity over the solid angle: the planar triangle is cut into n^2 = 64 similar sub-triangles (a barycentric
+// grid); each sample is binned by the sub-triangle its ray hits, and the expected count of a bin is N times the
+// sub-triangle's solid angle over the whole. 100k samples, ~1500 per bin.
+TEST(SphericalTriangle, SamplingIsUniformInSolidAngle) {
+    const int n = 8, sampleCount = 100000;
+    const double alpha = kFamilyAlpha / static_cast<double>(kTriangles.size());
+    for (size_t k = 0; k < kTriangles.size(); ++k) {
+        const TriangleCase& triangle = kTriangles[k];
+        SCOPED_TRACE(triangle.name);
+        const auto [a, b, c] = triangle.directions();
+        const auto& p = triangle.p;
+        const auto at = [&](double b1, double b2) { return p[0] + b1 * (p[1] - p[0]) + b2 * (p[2] - p[0]); };
+
+        // Sub-triangle (i, j, upper) covers barycentric cell [i, i+1] x [j, j+1] / n, below or above its diagonal.
+        std::vector<double> expected(size_t(2 * n * n), 0.0), observed(size_t(2 * n * n), 0.0);
+        const auto bin = [n](int i, int j, int upper) { return size_t(2 * (i * n + j) + upper); };
+        double total = 0.0;
+        for (int i = 0; i < n; ++i) {
+            for (int j = 0; i + j < n; ++j) {
+                const dvec3 p00 = at(double(i) / n, double(j) / n), p10 = at(double(i + 1) / n, double(j) / n);
+                const dvec3 p01 = at(double(i) / n, double(j + 1) / n), p11 = at(double(i + 1) / n, double(j + 1) / n);
+                expected[bin(i, j, 0)] = solidAngle(p00, p10, p01);
+                if (i + j + 2 <= n) expected[bin(i, j, 1)] = solidAngle(p10, p11, p01);
+                total += expected[bin(i, j, 0)] + expected[bin(i, j, 1)];
+            }
+        }
+        for (double& e : expected)
+            e *= sampleCount / total;
+
+        sh::Pcg32 rng = sh::pcg32Seed(33u, static_cast<sh::uint>(k));
+        for (int s = 0; s < sampleCount; ++s) {
+            float ignored = 0.0f;
+            const dvec3 d(sh::sampleSphericalTriangle(a, b, c, nextVec2(rng), ignored));
+            double b1 = 0.0, b2 = 0.0;
+            ASSERT_TRUE(rayPlaneBarycentrics(d, p, b1, b2));
+            const int i = std::clamp(int(std::floor(b1 * n)), 0, n - 1);
+            const int j = std::clamp(int(std::floor(b2 * n)), 0, n - 1 - i);
+            const int upper = (b1 * n - i) + (b2 * n - j) > 1.0 && i + j + 2 <= n ? 1 : 0;
+            observed[bin(i, j, upper)] += 1.0;
+        }
+        // Slots of the 2 n^2 array that are no sub-triangle expect nothing and receive nothing; drop them.
+        std::vector<double> binObserved, binExpected;
+        for (size_t q = 0; q < expected.size(); ++q) {
+            if (expected[q] > 0.0) {
+                binObserved.push_back(observed[q]);
+                binExpected.push_back(expected[q]);
+            }
+        }
+        ASSERT_EQ(binObserved.size(), size_t(n * n));
+        const test::ChiSquareResult chi2 = test::chiSquareTest(binObserved, binExpected);
+        EXPECT_GT(chi2.pValue, alpha) << chi2.describe();
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// BSDFs
+
+sh::MaterialParams ggx(float alphaX, float alphaY) {
+    sh::MaterialParams m{};
+    m.kind = sh::kMaterialGgx;
+    m.alphaX = alphaX;
+    m.alphaY = alphaY;
+    m.f0 = sh::vec3(1.0f);
+    return m;
+}
+
+sh::MaterialParams diffuse() {
+    sh::MaterialParams m{};
+    m.kind = sh::kMaterialDiffuse;
+    m.albedo = sh::vec3(1.0f);
+    return m;
+}
+
+// Roughness pairs from near-specular to fully rough, isotropic and anisotropic both ways.
+const std::vector<std::pair<float, float>> kAlphas = {{0.05f, 0.05f}, {0.2f, 0.2f},  {0.5f, 0.5f}, {1.0f, 1.0f},
+                                                      {0.05f, 0.5f},  {0.5f, 0.05f}, {0.1f, 1.0f}, {1.0f, 0.3f}};
+
+// View directions from normal incidence to 85 degrees, at azimuths off the anisotropy axes.
+std::vector<dvec3> viewDirections() {
+    std::vector<dvec3> directions;
+    for (double degrees : {0.0, 30.0, 60.0, 85.0})
+        directions.push_back(fromSpherical(std::cos(degrees * kPi / 180.0), 0.7));
+    return directions;
+}
+
+// int over wi in { wi.z >= zMin } of f(wi) d omega, in (cos theta_i, phi_i) with phi_i centred on the mirror direction
+// of wo and cos theta_i split at wo.z, so the peak of a glossy lobe sits on quadrature nodes.
+template <typename F>
+double integrateAroundMirror(const dvec3& wo, double zMin, const F& f) {
+    const double phiMirror = azimuth(wo) + kPi;
+    const auto integrand = [&](double mu, double phi) { return f(fromSpherical(mu, phi)); };
+    const double split = std::clamp(wo.z, zMin, 1.0);
+    double total = 0.0;
+    for (auto [mu0, mu1] : {std::pair(zMin, split), std::pair(split, 1.0)})
+        for (auto [phi0, phi1] : {std::pair(phiMirror - kPi, phiMirror), std::pair(phiMirror, phiMirror + kPi)})
+            total += test::integrate2D(integrand, mu0, mu1, phi0, phi1, 1e-9);
+    return total;
+}
+
+// int D(h) h.z d omega_h = 1 over the hemisphere (the microsurface's projected area is the macrosurface's), in
+// (theta, phi) with phi split at the anisotropy axes where the lobe is sharpest. Tolerance 1e-4 relative: quadrature
+// to 1e-7 relative of a float D.
+TEST(Ggx, NormalDistributionIsNormalised) {
+    for (auto [ax, ay] : kAlphas) {
+        SCOPED_TRACE(std::to_string(ax) + ", " + std::to_string(ay));
+        const auto integrand = [&](double theta, double phi) {
+            const sh::vec3 h(fromSpherical(std::cos(theta), phi));
+            return double(sh::ggxD(h, ax, ay)) * std::cos(theta) * std::sin(theta);
+        };
+        double total = 0.0;
+        for (int quadrant = 0; quadrant < 4; ++quadrant)
+            total +=
+                test::integrate2D(integrand, 0.0, 0.5 * kPi, quadrant * 0.5 * kPi, (quadrant + 1) * 0.5 * kPi, 1e-9);
+        EXPECT_NEAR(total, 1.0, 1e-4);
+    }
+}
+
+// The weak white furnace test (Heitz 2014): with F = 1 and masking only, int G1(wo) D(h) / (4 wo.z) d omega_i = 1 over
+// the whole sphere of wi (h = normalize(wo + wi); D vanishes for wi.z < -wo.z). It holds only if Lambda matches D.
+// Tolerance 1e-3: quadrature of a peaked float integrand (alpha = 0.05 at 85 degrees) to ~1e-6, with margin.
+TEST(Ggx, WeakWhiteFurnace) {
+    for (auto [ax, ay] : kAlphas) {
+        for (const dvec3& wo : viewDirections()) {
+            SCOPED_TRACE(std::to_string(ax) + ", " + std::to_string(ay) + ", wo.z = " + std::to_string(wo.z));
+            const sh::vec3 woF(wo);
+            const double g1 = sh::ggxG1(woF, ax, ay);
+            const double total = integrateAroundMirror(wo, -wo.z, [&](const dvec3& wi) {
+                const dvec3 sum = wo + wi;
+                if (glm::length(sum) < 1e-9) return 0.0;
+                return g1 * sh::ggxD(sh::vec3(glm::normalize(sum)), ax, ay) / (4.0 * wo.z);
+            });
+            EXPECT_NEAR(total, 1.0, 1e-3);
+        }
+    }
+}
+
+// With F0 = 1 the full single-scattering model, E(wo) = int f(wo, wi) wi.z d omega_i over the upper hemisphere, loses
+// energy (shadowing, and light reflected below the horizon) but never gains it: E <= 1 within the quadrature
+// tolerance, 1e-4. Two magnitudes are known: smooth surfaces lose little away from grazing (E >= 0.99 for alpha = 0.05
+// up to 60 degrees), and for alpha = 1 at normal incidence D = 1 / pi and G2 = 2 cos / (1 + cos), so
+// E = int_0^1 mu / (1 + mu) dmu = 1 - ln 2 exactly (tolerance 1e-4).
+TEST(Ggx, FullModelLosesEnergy) {
+    for (auto [ax, ay] : kAlphas) {
+        const sh::MaterialParams m = ggx(ax, ay);
+        for (const dvec3& wo : viewDirections()) {
+            SCOPED_TRACE(std::to_string(ax) + ", " + std::to_string(ay) + ", wo.z = " + std::to_string(wo.z));
+            const sh::vec3 woF(wo);
+            const double albedo = integrateAroundMirror(
+                wo, 0.0, [&](const dvec3& wi) { return double(sh::bsdfEval(m, woF, sh::vec3(wi)).x) * wi.z; });
+            EXPECT_LE(albedo, 1.0 + 1e-4);
+            if (std::max(ax, ay) <= 0.05f && wo.z >= 0.49) {
+                EXPECT_GT(albedo, 0.99);
+            }
+            if (ax == 1.0f && ay == 1.0f && wo.z == 1.0) {
+                EXPECT_NEAR(albedo, 1.0 - std::log(2.0), 1e-4);
+            }
+        }
+    }
+}
+
+struct BsdfCase {
+    std::string name;
+    sh::MaterialParams material;
+    dvec3 wo;
+};
+
+std::vector<BsdfCase> ggxSamplingCases() {
+    std::vector<BsdfCase> cases;
+    const std::vector<std::pair<float, float>> alphas = {{0.15f, 0.15f}, {0.6f, 0.6f}, {0.1f, 0.4f}, {0.7f, 0.2f}};
+    for (auto [ax, ay] : alphas) {
+        for (double degrees : {30.0, 75.0}) {
+            const std::string name = "GGX " + std::to_string(ax) + ", " + std::to_string(ay) + " at " +
+                                     std::to_string(int(degrees)) + " degrees";
+            cases.push_back({name, ggx(ax, ay), fromSpherical(std::cos(degrees * kPi / 180.0), 0.7)});
+        }
+    }
+    return cases;
+}
+
+// Chi-square of bsdfSample's wi against bsdfPdf: 16 x 16 bins in (cos theta_i, phi_i) over the upper hemisphere, plus
+// one bin for the samples GGX sends below the horizon (expected: 1 minus the integral of bsdfPdf above it). 100k
+// samples per case.
+void expectBsdfSamplingMatchesPdf(const std::vector<BsdfCase>& cases) {
+    const int sampleCount = 100000;
+    const double alpha = kFamilyAlpha / static_cast<double>(cases.size());
+    for (size_t k = 0; k < cases.size(); ++k) {
+        const BsdfCase& c = cases[k];
+        SCOPED_TRACE(c.name);
+        const sh::vec3 wo(c.wo);
+        test::Histogram2D histogram(test::Grid2D{0.0, 1.0, 16, 0.0, 2.0 * kPi, 16});
+        double below = 0.0;
+        sh::Pcg32 rng = sh::pcg32Seed(41u, static_cast<sh::uint>(k));
+        for (int i = 0; i < sampleCount; ++i) {
+            float pdf = 0.0f;
+            const dvec3 wi(sh::bsdfSample(c.material, wo, nextVec2(rng), pdf));
+            if (wi.z <= 0.0)
+                below += 1.0;
+            else
+                histogram.add(wi.z, azimuth(wi));
+        }
+        EXPECT_EQ(histogram.outside, 0);
+        std::vector<double> expected = histogram.grid.expectedCounts(
+            [&](double mu, double phi) {
+                return double(sh::bsdfPdf(c.material, wo, sh::vec3(fromSpherical(mu, phi))));
+            },
+            sampleCount, 1e-7);
+        double upper = 0.0;
+        for (double e : expected)
+            upper += e;
+        std::vector<double> observed = histogram.counts;
+        observed.push_back(below);
+        expected.push_back(std::max(0.0, sampleCount - upper));
+        const test::ChiSquareResult chi2 = test::chiSquareTest(observed, expected);
+        EXPECT_GT(chi2.pValue, alpha) << chi2.describe();
+    }
+}
+
+TEST(Ggx, SamplingMatchesPdf) {
+    expectBsdfSamplingMatchesPdf(ggxSamplingCases());
+}
+
+TEST(SamplingLambertian, MatchesPdf) {
+    expectBsdfSamplingMatchesPdf({{"diffuse, normal view", diffuse(), dvec3(0, 0, 1)},
+                                  {"diffuse, grazing view", diffuse(), fromSpherical(0.1, 2.0)}});
+}
+
+// The pdf bsdfSample returns is the density of the wi it returns: for GGX, the visible-normal density of the sampled
+// half vector divided by 4 wo.h (recomputed here from the sampler's own h), zero below the horizon; for Lambertian,
+// wi.z / pi. Tolerance 1e-3 relative: h = normalize(wo + wi) differs from the sampled h by float rounding, and D
+// changes by ~4 |dh| / alpha^2 relative for alpha = 0.1.
+TEST(Ggx, SampledPdfEqualsBsdfPdf) {
+    std::vector<BsdfCase> cases = ggxSamplingCases();
+    cases.push_back({"diffuse", diffuse(), fromSpherical(0.6, 1.0)});
+    for (const BsdfCase& c : cases) {
+        SCOPED_TRACE(c.name);
+        const sh::vec3 wo(c.wo);
+        sh::Pcg32 rng = sh::pcg32Seed(42u, 0u);
+        for (int i = 0; i < 2000; ++i) {
+            const sh::vec2 u = nextVec2(rng);
+            float pdf = -1.0f;
+            const sh::vec3 wi = sh::bsdfSample(c.material, wo, u, pdf);
+            ASSERT_NEAR(glm::length(wi), 1.0f, 1e-5f);
+            ASSERT_EQ(pdf, sh::bsdfPdf(c.material, wo, wi));
+            if (wi.z <= 0.0f) {
+                ASSERT_EQ(pdf, 0.0f);
+                continue;
+            }
+            double reference = wi.z / kPi;
+            if (c.material.kind == sh::kMaterialGgx) {
+                const sh::vec3 h = sh::ggxSampleVisibleNormal(wo, c.material.alphaX, c.material.alphaY, u);
+                reference =
+                    sh::ggxVisibleNormalPdf(wo, h, c.material.alphaX, c.material.alphaY) / (4.0 * glm::dot(wo, h));
+            }
+            ASSERT_GT(pdf, 0.0f);
+            ASSERT_NEAR(pdf, reference, 1e-3 * reference) << "u = " << u.x << ", " << u.y;
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Random numbers
+
+// PCG32 (XSH RR) on a native 64-bit state, written from its definition.
+struct ReferencePcg32 {
+    std::uint64_t state;
+    std::uint32_t next() {
+        const std::uint64_t old = state;
+        state = old * 6364136223846793005ull + 1442695040888963407ull;
+        const auto xorshifted = static_cast<std::uint32_t>(((old >> 18u) ^ old) >> 27u);
+        const auto rot = static_cast<std::uint32_t>(old >> 59u);
+        return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
+    }
+};
+
+// The two-uint PCG32 equals the 64-bit one, output and state, over 1000 steps from several states (including ones
+// with the carry and rotation edge cases: all-zero, all-ones, high bits only).
+TEST(RngPcg32, MatchesReference64Bit) {
+    const std::vector<std::uint64_t> states = {
+        0ull, ~0ull, 0x853c49e6748fea9bull, 0xffffffff00000000ull, 0x00000000ffffffffull, 0x8000000000000000ull};
+    for (std::uint64_t initial : states) {
+        SCOPED_TRACE(initial);
+        ReferencePcg32 reference{initial};
+        sh::Pcg32 rng{static_cast<sh::uint>(initial), static_cast<sh::uint>(initial >> 32u)};
+        for (int i = 0; i < 1000; ++i) {
+            ASSERT_EQ(sh::pcg32Next(rng), reference.next()) << "output " << i;
+            ASSERT_EQ((std::uint64_t(rng.stateHi) << 32u) | rng.stateLo, reference.state) << "output " << i;
+        }
+    }
+}
+
+// uintToUnitFloat maps every uint into [0, 1), monotonically, and exactly onto k / 2^24: checked for every value of
+// the top 24 bits (the only ones used), with the low bits all set.
+TEST(RngPcg32, UnitFloatsLieInUnitInterval) {
+    EXPECT_EQ(sh::uintToUnitFloat(0u), 0.0f);
+    EXPECT_EQ(sh::uintToUnitFloat(0xffffffffu), sh::kOneMinusEpsilon);
+    float previous = -1.0f;
+    for (std::uint32_t k = 0; k < (1u << 24u); ++k) {
+        const float f = sh::uintToUnitFloat((k << 8u) | 0xffu);
+        if (!(f >= 0.0f && f < 1.0f && f > previous && f == float(k) * 0x1p-24f)) FAIL() << "k = " << k;
+        previous = f;
+    }
+    sh::Pcg32 rng = sh::pcg32Seed(51u, 2u);
+    for (int i = 0; i < 100000; ++i) {
+        const float f = sh::pcg32NextFloat(rng);
+        ASSERT_TRUE(f >= 0.0f && f < 1.0f);
+    }
+}
+
+// The first Sobol points in index order. Dimension 0 is the van der Corput sequence (bit-reversed index); dimension 1
+// XORs the direction numbers v_k of the index's set bits k, with v_0 = 1/2 and v_k = v_{k-1} ^ (v_{k-1} >> 1):
+// v = 1/2, 3/4, 5/8 (0.101b), so index 3 -> 1/2 ^ 3/4 = 1/4, 4 -> 5/8, 5 -> 5/8 ^ 1/2 = 1/8, 6 -> 5/8 ^ 3/4 = 3/8,
+// 7 -> 3/8 ^ 1/2 = 7/8.
+TEST(Sobol, FirstPointsMatchKnownValues) {
+    const std::array<double, 8> dim0 = {0.0, 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875};
+    const std::array<double, 8> dim1 = {0.0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875};
+    for (sh::uint i = 0; i < 8; ++i) {
+        const sh::uvec2 s = sh::sobol2(i);
+        EXPECT_EQ(s.x, static_cast<sh::uint>(dim0[i] * 4294967296.0)) << "index " << i;
+        EXPECT_EQ(s.y, static_cast<sh::uint>(dim1[i] * 4294967296.0)) << "index " << i;
+    }
+}
+
+// Empty if the points form a (0, m, 2)-net in base 2: for every k in 0..m, each of the 2^k x 2^(m-k) elementary
+// intervals holds exactly one point; otherwise a description of the first failure.
+std::string zeroTwoNetFailure(const std::vector<std::pair<double, double>>& points, int m) {
+    if (points.size() != (size_t(1) << m)) return "wrong number of points";
+    for (int k = 0; k <= m; ++k) {
+        const int nx = 1 << k, ny = 1 << (m - k);
+        std::vector<int> counts(size_t(nx * ny), 0);
+        for (auto [x, y] : points) {
+            if (!(x >= 0.0 && x < 1.0 && y >= 0.0 && y < 1.0)) return "point outside [0, 1)^2";
+            ++counts[size_t(int(x * nx) * ny + int(y * ny))];
+        }
+        for (size_t q = 0; q < counts.size(); ++q)
+            if (counts[q] != 1)
+                return std::to_string(counts[q]) + " points in interval " + std::to_string(q) + " of the " +
+                       std::to_string(nx) + " x " + std::to_string(ny) + " partition";
+    }
+    return "";
+}
+
+std::vector<std::pair<double, double>> sobolPoints(sh::uint pixelSeed, sh::uint pair, sh::uint first, sh::uint count) {
+    std::vector<std::pair<double, double>> points;
+    for (sh::uint i = first; i < first + count; ++i) {
+        const sh::vec2 p = sh::sobolSample2D(pixelSeed, i, pair);
+        points.emplace_back(p.x, p.y);
+    }
+    return points;
+}
+
+TEST(Sobol, UnscrambledPointsFormNets) {
+    std::vector<std::pair<double, double>> points;
+    for (sh::uint i = 0; i < 256; ++i) {
+        const sh::uvec2 s = sh::sobol2(i);
+        points.emplace_back(s.x * 0x1p-32, s.y * 0x1p-32);
+    }
+    EXPECT_EQ(zeroTwoNetFailure(points, 8), "");
+}
+
+// Scrambling keeps the (0, 2) property: for several pixels and dimension pairs, the first 256 points (and the first
+// 64, and the aligned block 256..511) are (0, m, 2)-nets.
+TEST(Sobol, ScrambledPointsFormZeroTwoNets) {
+    for (sh::uint pixelSeed : {0u, 1u, 0xdeadbeefu, 123456789u}) {
+        for (sh::uint pair : {0u, 1u, 2u, 7u}) {
+            SCOPED_TRACE(std::to_string(pixelSeed) + ", pair " + std::to_string(pair));
+            EXPECT_EQ(zeroTwoNetFailure(sobolPoints(pixelSeed, pair, 0, 256), 8), "");
+            EXPECT_EQ(zeroTwoNetFailure(sobolPoints(pixelSeed, pair, 0, 64), 6), "");
+            EXPECT_EQ(zeroTwoNetFailure(sobolPoints(pixelSeed, pair, 256, 256), 8), "");
+        }
+    }
+}
+
+// Different dimension pairs (and different pixels) get different point sets: at most a handful of the 256 points
+// may coincide by chance (each has ~1e-7 probability at 24-bit resolution; we allow 2).
+TEST(Sobol, PairsAndPixelsGetDifferentPoints) {
+    const auto shared = [](const std::vector<std::pair<double, double>>& a,
+                           const std::vector<std::pair<double, double>>& b) {
+        const std::set<std::pair<double, double>> setA(a.begin(), a.end());
+        int count = 0;
+        for (const auto& p : b)
+            count += setA.count(p) != 0 ? 1 : 0;
+        return count;
+    };
+    const auto base = sobolPoints(7u, 0u, 0, 256);
+    for (sh::uint pair = 1; pair < 8; ++pair)
+        EXPECT_LE(shared(base, sobolPoints(7u, pair, 0, 256)), 2) << "pair " << pair;
+    for (sh::uint pixel : {8u, 9u, 1000u})
+        EXPECT_LE(shared(base, sobolPoints(pixel, 0u, 0, 256)), 2) << "pixel " << pixel;
+}
+
+}  // namespace
+}  // namespace tyndall
