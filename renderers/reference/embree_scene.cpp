@@ -53,6 +53,20 @@ void volumeCollect(const RTCOccludedFunctionNArguments* args) {
 
 void volumeIntersectUnused(const RTCIntersectFunctionNArguments*) {}
 
+RTCRay makeRay(const vec3& origin, const vec3& dir, float tnear, float tfar) {
+    RTCRay ray{};
+    ray.org_x = origin.x;
+    ray.org_y = origin.y;
+    ray.org_z = origin.z;
+    ray.dir_x = dir.x;
+    ray.dir_y = dir.y;
+    ray.dir_z = dir.z;
+    ray.tnear = tnear;
+    ray.tfar = tfar;
+    ray.mask = 0xffffffffu;
+    return ray;
+}
+
 }  // namespace
 
 bool EmbreeScene::clip(const ConvexVolume& volume, const vec3& origin, const vec3& dir, float& t0, float& t1) {
@@ -130,15 +144,7 @@ bool EmbreeScene::intersect(const vec3& origin, const vec3& dir, float tnear, fl
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh{};
-    rh.ray.org_x = origin.x;
-    rh.ray.org_y = origin.y;
-    rh.ray.org_z = origin.z;
-    rh.ray.dir_x = dir.x;
-    rh.ray.dir_y = dir.y;
-    rh.ray.dir_z = dir.z;
-    rh.ray.tnear = tnear;
-    rh.ray.tfar = tfar;
-    rh.ray.mask = 0xffffffffu;
+    rh.ray = makeRay(origin, dir, tnear, tfar);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(surfaces_, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
@@ -154,16 +160,7 @@ bool EmbreeScene::intersect(const vec3& origin, const vec3& dir, float tnear, fl
 bool EmbreeScene::occluded(const vec3& origin, const vec3& dir, float tnear, float tfar) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRay ray{};
-    ray.org_x = origin.x;
-    ray.org_y = origin.y;
-    ray.org_z = origin.z;
-    ray.dir_x = dir.x;
-    ray.dir_y = dir.y;
-    ray.dir_z = dir.z;
-    ray.tnear = tnear;
-    ray.tfar = tfar;
-    ray.mask = 0xffffffffu;
+    RTCRay ray = makeRay(origin, dir, tnear, tfar);
     rtcOccluded1(surfaces_, &context, &ray);
     return ray.tfar < 0.0f;  // Embree sets tfar to -inf on occlusion
 }
@@ -175,16 +172,7 @@ void EmbreeScene::volumeIntervals(const vec3& origin, const vec3& dir, float tne
     rtcInitIntersectContext(&collect.context);
     collect.scene = this;
     collect.out = &out;
-    RTCRay ray{};
-    ray.org_x = origin.x;
-    ray.org_y = origin.y;
-    ray.org_z = origin.z;
-    ray.dir_x = dir.x;
-    ray.dir_y = dir.y;
-    ray.dir_z = dir.z;
-    ray.tnear = tnear;
-    ray.tfar = std::min(tfar, std::numeric_limits<float>::max());
-    ray.mask = 0xffffffffu;
+    RTCRay ray = makeRay(origin, dir, tnear, std::min(tfar, std::numeric_limits<float>::max()));
     rtcOccluded1(volumeScene_, &collect.context, &ray);
 }
 
