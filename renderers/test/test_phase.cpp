@@ -145,8 +145,8 @@ double eval(const sh::PhaseParams& p, double mu) {
     return sh::phaseEval(p, static_cast<float>(mu));
 }
 
-// 2 pi int_{-1}^{1} p(mu) f(mu) dmu. The quadrature tolerance (1e-10) is far below the test tolerances; HG peaks sit on
-// the ends of the interval, where adaptive Simpson starts.
+// 2 pi int_{-1}^{1} p(mu) f(mu) dmu, to ~1e-7 relative (the float noise of phaseEval bounds the quadrature), far below
+// the test tolerances. HG peaks sit on the ends of the interval, where adaptive Simpson starts.
 template <typename F>
 double sphereIntegral(const sh::PhaseParams& p, const F& f) {
     return 2.0 * kPi * test::integrate([&](double mu) { return eval(p, mu) * f(mu); }, -1.0, 1.0, 1e-10);
@@ -190,7 +190,7 @@ void expectPhaseSamplingMatchesPdf(const std::vector<NamedPhase>& phases, int sa
         }
         EXPECT_EQ(histogram.outside, 0);
         const std::vector<double> expected =
-            grid.expectedCounts([&](double mu, double) { return eval(phase.params, mu); }, sampleCount, 1e-9);
+            grid.expectedCounts([&](double mu, double) { return eval(phase.params, mu); }, sampleCount);
         const test::ChiSquareResult chi2 = test::chiSquareTest(histogram.counts, expected);
         EXPECT_GT(chi2.pValue, alpha) << chi2.describe();
     }
@@ -199,7 +199,7 @@ void expectPhaseSamplingMatchesPdf(const std::vector<NamedPhase>& phases, int sa
 // ---------------------------------------------------------------------------------------------------------------------
 // Every kind: normalisation, mean cosine, pdf of samples
 
-// Tolerance 1e-4 relative: quadrature error is ~1e-10 and float evaluation of phaseEval ~1e-6 relative, so a real
+// Tolerance 1e-4 relative: quadrature error is ~1e-7 and float evaluation of phaseEval ~1e-6 relative, so a real
 // normalisation error (a missing factor, a wrong constant) is far above it.
 TEST(PhaseFunction, IntegratesToOne) {
     for (const NamedPhase& phase : allPhases()) {

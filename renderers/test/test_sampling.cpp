@@ -707,7 +707,7 @@ void expectBsdfSamplingMatchesPdf(const std::vector<BsdfCase>& cases) {
             [&](double mu, double phi) {
                 return double(sh::bsdfPdf(c.material, wo, sh::vec3(fromSpherical(mu, phi))));
             },
-            sampleCount, 1e-7);
+            sampleCount);
         double upper = 0.0;
         for (double e : expected)
             upper += e;
