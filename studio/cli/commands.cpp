@@ -3,6 +3,7 @@
 #include "progress.h"
 
 #include "tyndall/error.h"
+#include "tyndall/gpu/context.h"
 #include "tyndall/image_io.h"
 #include "tyndall/metrics.h"
 #include "tyndall/project.h"
@@ -245,6 +246,23 @@ int info(const InfoArgs& args) {
         j["tyndall"] = tyndallVersion();
         j["devices"] = nlohmann::json::array();
         j["devices"].push_back({{"name", "CPU"}, {"threads", tbb::info::default_concurrency()}, {"used by", "reference"}});
+        std::string vulkanProblem;
+        try {
+            for (const gpu::DeviceInfo& d : gpu::Context::enumerateDevices()) {
+                j["devices"].push_back({{"name", d.name},
+                                        {"vulkan", std::to_string(VK_API_VERSION_MAJOR(d.apiVersion)) + "." +
+                                                       std::to_string(VK_API_VERSION_MINOR(d.apiVersion))},
+                                        {"index", d.index},
+                                        {"type", d.typeName()},
+                                        {"float64", d.shaderFloat64},
+                                        {"rayQuery", d.rayQuery},
+                                        {"meshShader", d.meshShader},
+                                        {"timelineSemaphores", d.timelineSemaphores}});
+            }
+        } catch (const gpu::GpuError& e) {
+            vulkanProblem = e.what();
+            j["vulkanError"] = vulkanProblem;
+        }
         j["techniques"] = nlohmann::json::array();
         for (const std::string& name : techniqueNames()) {
             auto technique = createTechnique(name);
@@ -265,8 +283,17 @@ int info(const InfoArgs& args) {
             std::printf("%s\n", j.dump(2).c_str());
             return int(kOk);
         }
-        std::printf("Tyndall %s\n\nDevices:\n  CPU, %d threads (reference)\n\nTechniques:\n", tyndallVersion(),
+        std::printf("Tyndall %s\n\nDevices:\n  CPU, %d threads (reference)\n", tyndallVersion(),
                     tbb::info::default_concurrency());
+        for (const auto& d : j["devices"]) {
+            if (!d.contains("vulkan")) continue;
+            std::printf("  Vulkan %s: [%d] %s (%s)%s%s%s\n", d["vulkan"].get<std::string>().c_str(), d["index"].get<int>(),
+                        d["name"].get<std::string>().c_str(), d["type"].get<std::string>().c_str(),
+                        d["float64"].get<bool>() ? ", float64" : "", d["rayQuery"].get<bool>() ? ", ray queries" : "",
+                        d["meshShader"].get<bool>() ? ", mesh shaders" : "");
+        }
+        if (!vulkanProblem.empty()) std::printf("  Vulkan: %s\n", vulkanProblem.c_str());
+        std::printf("\nTechniques:\n");
         for (const auto& t : j["techniques"]) {
             std::printf("  %s - %s\n", t["name"].get<std::string>().c_str(), t["displayName"].get<std::string>().c_str());
             for (const auto& p : t["parameters"]) {

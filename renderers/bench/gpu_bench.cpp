@@ -1,0 +1,172 @@
+// GPU framework benchmarks (lavapipe here):
+//   build/renderers/bench/tyndall_gpu_bench
+// - the overhead of an empty full-screen compute pass (one invocation per pixel writing one value) at 512x512 and
+//   1920x1080: wall time of submit + wait, and GPU time from timestamps;
+// - shadow rays per second through the shared BVH traversal on the GPU against Embree's rtcOccluded1 on the CPU, on the
+//   same rays (target >= 10 % of Embree's rate, stretch 25 %).
+#include "tyndall/geometry.h"
+#include "tyndall/gpu/bvh.h"
+#include "tyndall/gpu/harness.h"
+#include "tyndall/project.h"
+#include "tyndall/gpu/resources.h"
+#include "tyndall/gpu/shader_compiler.h"
+
+#include <benchmark/benchmark.h>
+
+#include <embree3/rtcore.h>
+
+#include <cstring>
+#include <memory>
+#include <random>
+
+namespace {
+
+using namespace tyndall::gpu;
+
+Context& context() {
+    static Context c(ContextOptions{"", 0});
+    return c;
+}
+
+void BM_EmptyComputePass(benchmark::State& state) {
+    const uint32_t width = uint32_t(state.range(0)), height = uint32_t(state.range(1));
+    static const std::string source =
+        "#version 460\n"
+        "layout(local_size_x = 8, local_size_y = 8) in;\n"
+        "layout(std430, set = 0, binding = 0) writeonly buffer Image { float pixels[]; };\n"
+        "layout(push_constant) uniform Push { uint width; uint height; } push;\n"
+        "void main() {\n"
+        "    uvec2 p = gl_GlobalInvocationID.xy;\n"
+        "    if (p.x < push.width && p.y < push.height) pixels[p.y * push.width + p.x] = 0.0f;\n"
+        "}\n";
+    CompileResult compiled = compileGlslSource(source, "empty.comp.glsl", ShaderStage::Compute);
+    if (!compiled.ok) {
+        state.SkipWithError(compiled.log.c_str());
+        return;
+    }
+    Buffer image(context(), VkDeviceSize(width) * height * 4);
+    ComputeKernel kernel(context(), compiled.spirv, 1, 8, "empty");
+    uint32_t push[2] = {width, height};
+    double gpuMs = 0.0;
+    for (auto _ : state) {
+        gpuMs += context().submitTimed(
+            [&](VkCommandBuffer cmd) { kernel.record(cmd, {&image}, push, (width + 7) / 8, (height + 7) / 8); });
+        kernel.resetDescriptors();
+    }
+    state.counters["gpu_ms"] = gpuMs / double(state.iterations());
+}
+BENCHMARK(BM_EmptyComputePass)->Args({512, 512})->Args({1920, 1080})->Unit(benchmark::kMillisecond);
+
+// Shadow rays between random points in the default project's room (the same rays for both sides).
+struct ShadowRays {
+    tyndall::gpu::Bvh bvh;
+    std::vector<tyndall::TriangleMesh> meshes;
+    std::vector<glm::vec4> rays;  // (origin, tMax), (dir, 0)
+    static constexpr uint32_t kCount = 1u << 18;
+};
+
+const ShadowRays& shadowRays() {
+    static ShadowRays r = [] {
+        ShadowRays out;
+        const std::string dir = std::string(TYNDALL_SOURCE_DIR) + "/projects";
+        tyndall::Project project = tyndall::loadProject(dir + "/default.json");
+        for (const tyndall::Mesh& mesh : project.scene.meshes) out.meshes.push_back(tyndall::buildMesh(mesh, dir));
+        out.bvh = tyndall::gpu::buildBvh(out.meshes);
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> x(-1.9f, 1.9f), y(0.05f, 2.9f);
+        for (uint32_t i = 0; i < ShadowRays::kCount; ++i) {
+            glm::vec3 a(x(rng), y(rng), x(rng)), b(x(rng), y(rng), x(rng));
+            float len = glm::length(b - a);
+            out.rays.push_back(glm::vec4(a, len));
+            out.rays.push_back(glm::vec4((b - a) / len, 0.0f));
+        }
+        return out;
+    }();
+    return r;
+}
+
+void BM_GpuBvhShadowRays(benchmark::State& state) {
+    const ShadowRays& r = shadowRays();
+    static const std::string source =
+        "#version 460\n"
+        "#extension GL_GOOGLE_include_directive : require\n"
+        "#include \"shared/bvh.h\"\n"
+        "layout(local_size_x = 64) in;\n"
+        "layout(std430, set = 0, binding = 0) readonly buffer BvhNodes { BvhNode bvhNodes[]; };\n"
+        "layout(std430, set = 0, binding = 1) readonly buffer BvhTriangles { BvhTriangle bvhTriangles[]; };\n"
+        "layout(std430, set = 0, binding = 2) readonly buffer Rays { vec4 rays[]; };\n"
+        "layout(std430, set = 0, binding = 3) writeonly buffer Occluded { uint occluded[]; };\n"
+        "layout(push_constant) uniform Push { uint count; } push;\n"
+        "BvhNode bvhNode(int i) { return bvhNodes[i]; }\n"
+        "BvhTriangle bvhTriangle(int i) { return bvhTriangles[i]; }\n"
+        "void main() {\n"
+        "    uint i = gl_GlobalInvocationID.x;\n"
+        "    if (i >= push.count) return;\n"
+        "    vec4 o = rays[2 * i], d = rays[2 * i + 1];\n"
+        "    occluded[i] = bvhOccluded(o.xyz, d.xyz, 0.0f, o.w * 0.99999f) ? 1u : 0u;\n"
+        "}\n";
+    CompileResult compiled = compileGlslSource(source, "shadow.comp.glsl", ShaderStage::Compute);
+    if (!compiled.ok) {
+        state.SkipWithError(compiled.log.c_str());
+        return;
+    }
+    Buffer nodes(context(), r.bvh.nodes.size() * sizeof(tyndall::shader::BvhNode));
+    Buffer triangles(context(), r.bvh.triangles.size() * sizeof(tyndall::shader::BvhTriangle));
+    Buffer rays(context(), r.rays.size() * sizeof(glm::vec4)), flags(context(), ShadowRays::kCount * 4);
+    nodes.upload(r.bvh.nodes);
+    triangles.upload(r.bvh.triangles);
+    rays.upload(r.rays);
+    ComputeKernel kernel(context(), compiled.spirv, 4, 4, "shadow");
+    const uint32_t n = ShadowRays::kCount;
+    for (auto _ : state) {
+        context().submitAndWait(
+            [&](VkCommandBuffer cmd) { kernel.record(cmd, {&nodes, &triangles, &rays, &flags}, &n, n / 64); });
+        kernel.resetDescriptors();
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * n);
+}
+BENCHMARK(BM_GpuBvhShadowRays)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_EmbreeShadowRays(benchmark::State& state) {
+    const ShadowRays& r = shadowRays();
+    RTCDevice device = rtcNewDevice("threads=1");
+    RTCScene scene = rtcNewScene(device);
+    for (unsigned m = 0; m < r.meshes.size(); ++m) {
+        const tyndall::TriangleMesh& mesh = r.meshes[m];
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        std::memcpy(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, mesh.positions.size()),
+                    mesh.positions.data(), mesh.positions.size() * 12);
+        std::memcpy(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, mesh.triangles.size()),
+                    mesh.triangles.data(), mesh.triangles.size() * 12);
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(scene, g);
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(scene);
+    size_t blocked = 0;
+    for (auto _ : state) {
+        // One core, as the GPU benchmark's numbers are compared per device; x2 for both cores of this machine.
+        for (uint32_t i = 0; i < ShadowRays::kCount; ++i) {
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            RTCRay ray{};
+            glm::vec4 o = r.rays[2 * i], d = r.rays[2 * i + 1];
+            ray.org_x = o.x, ray.org_y = o.y, ray.org_z = o.z;
+            ray.dir_x = d.x, ray.dir_y = d.y, ray.dir_z = d.z;
+            ray.tnear = 0.0f;
+            ray.tfar = o.w * 0.99999f;
+            ray.mask = 0xffffffffu;
+            rtcOccluded1(scene, &context, &ray);
+            blocked += ray.tfar < 0.0f;
+        }
+    }
+    benchmark::DoNotOptimize(blocked);
+    state.SetItemsProcessed(int64_t(state.iterations()) * ShadowRays::kCount);
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(device);
+}
+BENCHMARK(BM_EmbreeShadowRays)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,121 @@
+// The renderer library's own Vulkan instance and device (GPU framework issue). It runs headless, picks the best
+// device (discrete > integrated > virtual > CPU, overridable by name or index), and is what every GPU technique renders
+// with. The studio's window keeps its own device and only displays finished images.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace tyndall::gpu {
+
+// A failure of the GPU: no device, device lost, out of memory, a failed Vulkan call. Typed, so that callers can report
+// it instead of crashing.
+class GpuError : public std::runtime_error {
+public:
+    GpuError(const std::string& what, VkResult result = VK_ERROR_UNKNOWN)
+        : std::runtime_error(what), result_(result) {}
+    VkResult result() const { return result_; }
+    bool deviceLost() const { return result_ == VK_ERROR_DEVICE_LOST; }
+    bool outOfMemory() const {
+        return result_ == VK_ERROR_OUT_OF_DEVICE_MEMORY || result_ == VK_ERROR_OUT_OF_HOST_MEMORY;
+    }
+
+private:
+    VkResult result_;
+};
+
+// Throws GpuError naming the call when result is not VK_SUCCESS.
+void check(VkResult result, const char* what);
+
+struct DeviceInfo {
+    int index = 0;
+    std::string name;
+    VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+    std::uint32_t apiVersion = 0;
+    std::uint32_t queueFamily = 0;       // a family with compute (and graphics when available)
+    std::uint32_t queueCount = 0;
+    float timestampPeriod = 0.0f;        // ns per timestamp tick; 0 when the queue has no timestamps
+    bool timelineSemaphores = false;
+    bool shaderFloat64 = false;
+    bool rayQuery = false;               // VK_KHR_ray_query + acceleration structures
+    bool meshShader = false;             // VK_EXT_mesh_shader
+    bool descriptorIndexing = false;     // runtime descriptor arrays, partially bound
+    std::string typeName() const;
+};
+
+struct ContextOptions {
+    std::string device;     // "" for the best device; a decimal index; or a case-insensitive substring of its name
+    // Khronos validation layers. Default: on in debug builds and whenever TYNDALL_VULKAN_VALIDATION=1.
+    int validation = -1;    // -1 default, 0 off, 1 on
+};
+
+class Context {
+public:
+    explicit Context(const ContextOptions& options = {});
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    // Every physical device, in the order Vulkan reports them (for `tyndall info` and --device). Throws GpuError when
+    // there is no Vulkan at all.
+    static std::vector<DeviceInfo> enumerateDevices();
+
+    const DeviceInfo& device() const { return info_; }
+    VkInstance instance() const { return instance_; }
+    VkPhysicalDevice physicalDevice() const { return physical_; }
+    VkDevice vk() const { return device_; }
+    VkQueue queue() const { return queue_; }
+    bool validationEnabled() const { return validation_; }
+
+    // Messages of error severity from the validation layers since the context was created (tests fail on any).
+    std::vector<std::string> validationErrors() const;
+
+    // Records commands into a one-time command buffer, submits them and waits. Throws GpuError on device loss or
+    // any failure. Thread-safe: submissions to the single queue are serialised.
+    void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
+
+    // Like submitAndWait, and returns the GPU time of the recorded commands in milliseconds (timestamp queries), or a
+    // negative value when the queue has no timestamps.
+    double submitTimed(const std::function<void(VkCommandBuffer)>& record);
+
+    // Memory type with all `required` flags among `typeBits`, preferring `preferred`; throws GpuError when none.
+    std::uint32_t findMemoryType(std::uint32_t typeBits, VkMemoryPropertyFlags required,
+                                 VkMemoryPropertyFlags preferred = 0) const;
+
+    VkPipelineCache pipelineCache() const { return pipelineCache_; }
+
+private:
+    void createInstance();
+    void pickDevice(const std::string& request);
+    void createDevice();
+
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    VkCommandPool commandPool_ = VK_NULL_HANDLE;
+    VkQueryPool timestampPool_ = VK_NULL_HANDLE;
+    VkFence fence_ = VK_NULL_HANDLE;
+    VkPipelineCache pipelineCache_ = VK_NULL_HANDLE;
+    DeviceInfo info_;
+    bool validation_ = false;
+    std::mutex submitMutex_;
+    mutable std::mutex messageMutex_;
+    std::vector<std::string> validationErrors_;
+
+    static VKAPI_ATTR VkBool32 VKAPI_CALL onValidationMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                             VkDebugUtilsMessageTypeFlagsEXT types,
+                                                             const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                             void* user);
+};
+
+}  // namespace tyndall::gpu

@@ -1,0 +1,80 @@
+// Buffers with upload and readback, and compute kernels with classic descriptor sets and push constants.
+#pragma once
+
+#include "tyndall/gpu/context.h"
+
+#include <cstddef>
+#include <cstring>
+#include <vector>
+
+namespace tyndall::gpu {
+
+// A storage buffer. Host-visible memory when the device offers it with device-local (integrated GPUs, lavapipe), so
+// that upload and readback are plain copies; otherwise device-local memory with a staging copy.
+class Buffer {
+public:
+    Buffer(Context& context, VkDeviceSize size, VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    ~Buffer();
+    Buffer(const Buffer&) = delete;
+    Buffer& operator=(const Buffer&) = delete;
+
+    VkBuffer handle() const { return buffer_; }
+    VkDeviceSize size() const { return size_; }
+
+    void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+    void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+
+    template <typename T>
+    void upload(const std::vector<T>& values) { upload(values.data(), values.size() * sizeof(T)); }
+    template <typename T>
+    std::vector<T> download(std::size_t count) const {
+        std::vector<T> out(count);
+        download(out.data(), count * sizeof(T));
+        return out;
+    }
+
+private:
+    void copyThroughStaging(const void* in, void* out, VkDeviceSize bytes, VkDeviceSize offset) const;
+
+    Context& context_;
+    VkBuffer buffer_ = VK_NULL_HANDLE;
+    VkDeviceMemory memory_ = VK_NULL_HANDLE;
+    VkDeviceSize size_ = 0;
+    void* mapped_ = nullptr;  // non-null for host-visible memory
+};
+
+// A compute pipeline whose set 0 holds `bindingCount` storage buffers (binding i = buffers[i]) and whose push constant
+// block has `pushConstantBytes` bytes.
+class ComputeKernel {
+public:
+    ComputeKernel(Context& context, const std::vector<std::uint32_t>& spirv, std::uint32_t bindingCount,
+                  std::uint32_t pushConstantBytes, const std::string& name);
+    ~ComputeKernel();
+    ComputeKernel(const ComputeKernel&) = delete;
+    ComputeKernel& operator=(const ComputeKernel&) = delete;
+
+    // Records a dispatch. Descriptor sets come from the kernel's pool; call resetDescriptors() once the command
+    // buffers that used them have completed.
+    void record(VkCommandBuffer cmd, const std::vector<const Buffer*>& buffers, const void* push,
+                std::uint32_t groupsX, std::uint32_t groupsY = 1, std::uint32_t groupsZ = 1);
+    void resetDescriptors();
+    const std::string& name() const { return name_; }
+
+private:
+    void growPool();
+
+    Context& context_;
+    std::string name_;
+    std::uint32_t bindingCount_, pushBytes_;
+    VkShaderModule module_ = VK_NULL_HANDLE;
+    VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+    std::vector<VkDescriptorPool> pools_;
+    std::uint32_t setsInCurrentPool_ = 0;
+};
+
+// A barrier that makes compute-shader writes visible to later compute reads and host reads.
+void computeToComputeBarrier(VkCommandBuffer cmd);
+
+}  // namespace tyndall::gpu

@@ -1,0 +1,55 @@
+#include "gpu_test.h"
+
+#include "tyndall/error.h"
+#include "tyndall/gpu/resources.h"
+#include "tyndall/gpu/slicer.h"
+
+#include <thread>
+
+namespace tyndall::gpu::test {
+namespace {
+
+struct BusyPush {
+    uint32_t count, offset, iterations;
+};
+
+TEST_F(GpuTest, SlicedWorkCoversEveryItemOnceAndKeepsSlicesShort) {
+    constexpr uint32_t n = 1 << 16;
+    Buffer data(context(), n * 4);
+    data.upload(std::vector<float>(n, 0.25f));
+    ComputeKernel kernel(context(), loadSpirv("busy_loop"), 1, 12, "busy_loop");
+    // Work items are groups of 64 invocations.
+    SliceStats stats = runSliced(context(), n / 64, [&](VkCommandBuffer cmd, uint64_t begin, uint64_t count) {
+        BusyPush push{n, uint32_t(begin * 64), 2000};
+        kernel.record(cmd, {&data}, &push, uint32_t(count));
+    });
+    kernel.resetDescriptors();
+    std::vector<float> out = data.download<float>(n);
+    for (uint32_t i = 0; i < n; ++i) ASSERT_GE(out[i], 1.0f) << "item " << i << " was not processed";
+    EXPECT_GT(stats.slices, 1);
+    // The first slices ramp up; after that each stays near the 10 ms target (lavapipe's timing varies with load,
+    // so allow 4x for the longest).
+    EXPECT_LT(stats.longestMs, 40.0);
+}
+
+TEST_F(GpuTest, CancelStopsBetweenSlices) {
+    constexpr uint32_t n = 1 << 16;
+    Buffer data(context(), n * 4);
+    data.upload(std::vector<float>(n, 0.25f));
+    ComputeKernel kernel(context(), loadSpirv("busy_loop"), 1, 12, "busy_loop");
+    std::atomic<bool> cancel{false};
+    int recorded = 0;
+    EXPECT_THROW(runSliced(context(), n / 64,
+                           [&](VkCommandBuffer cmd, uint64_t begin, uint64_t count) {
+                               BusyPush push{n, uint32_t(begin * 64), 2000};
+                               kernel.record(cmd, {&data}, &push, uint32_t(count));
+                               if (++recorded == 3) cancel.store(true);
+                           },
+                           &cancel),
+                 Cancelled);
+    kernel.resetDescriptors();
+    EXPECT_EQ(recorded, 3) << "no slice is recorded after the cancel request";
+}
+
+}  // namespace
+}  // namespace tyndall::gpu::test

@@ -1,0 +1,176 @@
+// The triangle BVH for visibility, shared by GLSL and C++: the GPU layout of nodes and triangles (std430), and the
+// traversal (any hit for shadow rays, closest hit for camera rays). Built on the CPU by renderers/gpu/src/bvh.cpp.
+//
+// GLSL has no pointers, so the traversal reads nodes and triangles through two accessor functions that this header
+// only declares; the includer defines them, after the include, over whatever holds the arrays:
+//  - GLSL: over storage buffers, e.g.
+//        layout(std430, binding = 0) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
+//        layout(std430, binding = 1) readonly buffer BvhTriangles { BvhTriangle bvhTriangles[]; };
+//        BvhNode bvhNode(int i) { return bvhNodes[i]; }
+//        BvhTriangle bvhTriangle(int i) { return bvhTriangles[i]; }
+//  - C++: tyndall/gpu/bvh.h defines them over the Bvh bound to the calling thread by a tyndall::gpu::BvhScope.
+// Model: nvpro-samples' ray_tracing__simple/shaders/host_device.h (one declaration of the layout for both sides).
+#ifndef TY_SHARED_BVH_H
+#define TY_SHARED_BVH_H
+
+#include "compat.h"
+
+TY_BEGIN
+
+// A node of the BVH, 32 bytes. The root is node 0. An interior node (count == 0) has its two children next to each
+// other at leftOrFirst and leftOrFirst + 1; a leaf (count > 0) holds triangles leftOrFirst .. leftOrFirst + count - 1.
+// An empty BVH is a lone root with empty bounds (boundsMin > boundsMax), which no ray enters.
+struct BvhNode {
+    vec3 boundsMin;   // m, world space
+    int leftOrFirst;  // interior: index of the first child; leaf: index of the first triangle
+    vec3 boundsMax;   // m, world space
+    int count;        // triangles in a leaf, [1, kBvhMaxLeafSize]; 0 for an interior node
+};
+
+// A triangle as Moeller-Trumbore wants it, 48 bytes: a vertex and the two edges from it, in the input's winding, so
+// that barycentrics (u, v) weigh vertices 1 and 2 of the input triangle.
+struct BvhTriangle {
+    vec3 v0;  // m, vertex 0
+    uint id;  // index of the triangle in the builder's input (meshes concatenated in order)
+    vec3 e1;  // m, vertex 1 - vertex 0
+    float pad1;
+    vec3 e2;  // m, vertex 2 - vertex 0
+    float pad2;
+};
+
+// The closest hit along a ray.
+struct BvhHit {
+    float t;  // ray parameter of the hit, in (tMin, tMax)
+    uint id;  // BvhTriangle::id of the triangle hit
+    vec2 uv;  // barycentrics of vertices 1 and 2
+};
+
+TY_CONST int kBvhMaxLeafSize = 4;
+// Entries of the traversal stack; the builder keeps the tree shallower than this, so the stack never overflows.
+TY_CONST int kBvhStackSize = 64;
+
+// What bvhBoxEntry returns for a box the ray misses: FLT_MAX, like kInfinity in constants.h.
+TY_CONST float kBvhMiss = 3.402823466e38f;
+
+// Supplied by the includer (see the top of the file).
+BvhNode bvhNode(int i);
+BvhTriangle bvhTriangle(int i);
+
+// 1 / d, with |d| clamped away from zero so that slab distances stay finite (no 0 * inf = NaN for a ray in a slab's
+// plane).
+TY_FUNC float bvhSafeInverse(float d) {
+    const float kTiny = 1e-20f;
+    return 1.0f / (abs(d) > kTiny ? d : (d < 0.0f ? -kTiny : kTiny));
+}
+
+// Entry distance of the ray into a node's box within [tMin, tMax], or kBvhMiss. The near and far planes are chosen by
+// the sign of the direction (not by min/max of the two distances), so that empty bounds (min > max) are never entered.
+// The exit distance is enlarged by a few ulps so that rounding cannot cull a box the ray just touches (Pharr et al.,
+// PBR 4th ed., Sec. 6.8.6: 1 + 2 gamma(3)).
+TY_FUNC float bvhBoxEntry(TY_IN(BvhNode) node, TY_IN(vec3) origin, TY_IN(vec3) invDir, float tMin, float tMax) {
+    vec3 tLow = (node.boundsMin - origin) * invDir;
+    vec3 tHigh = (node.boundsMax - origin) * invDir;
+    bvec3 negative = lessThan(invDir, vec3(0.0f));
+    vec3 tNear = mix(tLow, tHigh, negative);
+    vec3 tFar = mix(tHigh, tLow, negative);
+    float entry = max(max(tNear.x, tNear.y), max(tNear.z, tMin));
+    float exit = min(min(tFar.x, tFar.y), tFar.z) * 1.0000008f;
+    return entry <= min(exit, tMax) ? entry : kBvhMiss;
+}
+
+// Moeller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection". True for a hit with t in (tMin, tMax);
+// degenerate triangles and rays in the triangle's plane never hit.
+TY_FUNC bool bvhTriangleHit(TY_IN(BvhTriangle) tri, TY_IN(vec3) origin, TY_IN(vec3) dir, float tMin, float tMax,
+                            TY_OUT(float) t, TY_OUT(vec2) uv) {
+    vec3 p = cross(dir, tri.e2);
+    float det = dot(tri.e1, p);
+    if (det == 0.0f) return false;
+    float invDet = 1.0f / det;
+    vec3 s = origin - tri.v0;
+    float u = dot(s, p) * invDet;
+    if (u < 0.0f || u > 1.0f) return false;
+    vec3 q = cross(s, tri.e1);
+    float v = dot(dir, q) * invDet;
+    if (v < 0.0f || u + v > 1.0f) return false;
+    t = dot(tri.e2, q) * invDet;
+    uv = vec2(u, v);
+    return t > tMin && t < tMax;
+}
+
+// The traversal behind bvhOccluded and bvhIntersect: depth first, nearer child first, the farther one on a fixed stack
+// with its entry distance, so that it is skipped once a closer hit is known. With anyHit it returns at the first hit
+// (which need not be the closest). dir need not be unit length; t is in units of |dir|.
+TY_FUNC bool bvhTraverse(TY_IN(vec3) origin, TY_IN(vec3) dir, float tMin, float tMax, bool anyHit, TY_OUT(BvhHit) hit) {
+    vec3 invDir = vec3(bvhSafeInverse(dir.x), bvhSafeInverse(dir.y), bvhSafeInverse(dir.z));
+    hit.t = tMax;
+    hit.id = 0u;
+    hit.uv = vec2(0.0f);
+    bool found = false;
+
+    int stackNode[kBvhStackSize];
+    float stackEntry[kBvhStackSize];
+    int top = 0;
+    if (bvhBoxEntry(bvhNode(0), origin, invDir, tMin, tMax) == kBvhMiss) return false;
+    stackNode[top] = 0;
+    stackEntry[top] = tMin;
+    ++top;
+
+    while (top > 0) {
+        --top;
+        if (stackEntry[top] > hit.t) continue;  // a closer hit was found since this node was pushed
+        int nodeIndex = stackNode[top];
+        while (nodeIndex >= 0) {
+            BvhNode node = bvhNode(nodeIndex);
+            if (node.count > 0) {
+                for (int i = node.leftOrFirst; i < node.leftOrFirst + node.count; ++i) {
+                    BvhTriangle tri = bvhTriangle(i);
+                    float t;
+                    vec2 uv;
+                    if (bvhTriangleHit(tri, origin, dir, tMin, hit.t, t, uv)) {
+                        hit.t = t;
+                        hit.id = tri.id;
+                        hit.uv = uv;
+                        found = true;
+                        if (anyHit) return true;
+                    }
+                }
+                nodeIndex = -1;
+            } else {
+                int nearChild = node.leftOrFirst;
+                int farChild = node.leftOrFirst + 1;
+                float entryNear = bvhBoxEntry(bvhNode(nearChild), origin, invDir, tMin, hit.t);
+                float entryFar = bvhBoxEntry(bvhNode(farChild), origin, invDir, tMin, hit.t);
+                if (entryFar < entryNear) {
+                    int swapNode = nearChild;
+                    nearChild = farChild;
+                    farChild = swapNode;
+                    float swapEntry = entryNear;
+                    entryNear = entryFar;
+                    entryFar = swapEntry;
+                }
+                if (entryFar != kBvhMiss && top < kBvhStackSize) {
+                    stackNode[top] = farChild;
+                    stackEntry[top] = entryFar;
+                    ++top;
+                }
+                nodeIndex = entryNear != kBvhMiss ? nearChild : -1;
+            }
+        }
+    }
+    return found;
+}
+
+// True when a triangle lies on the ray within (tMin, tMax): shadow rays.
+TY_FUNC bool bvhOccluded(TY_IN(vec3) origin, TY_IN(vec3) dir, float tMin, float tMax) {
+    BvhHit hit;
+    return bvhTraverse(origin, dir, tMin, tMax, true, hit);
+}
+
+// The closest triangle on the ray within (tMin, tMax); false (and hit.t = tMax) when there is none.
+TY_FUNC bool bvhIntersect(TY_IN(vec3) origin, TY_IN(vec3) dir, float tMin, float tMax, TY_OUT(BvhHit) hit) {
+    return bvhTraverse(origin, dir, tMin, tMax, false, hit);
+}
+
+TY_END
+
+#endif  // TY_SHARED_BVH_H
