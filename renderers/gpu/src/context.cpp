@@ -167,7 +167,7 @@ Context::Context(const ContextOptions& options) {
     try {
         createInstance();
         pickDevice(options.device);
-        createDevice();
+        createDevice(options.rayQuery && info_.rayQuery);
     } catch (...) {
         this->~Context();
         throw;
@@ -252,7 +252,7 @@ void Context::pickDevice(const std::string& request) {
     if (info_.queueCount == 0) throw GpuError("the Vulkan device '" + info_.name + "' has no compute queue");
 }
 
-void Context::createDevice() {
+void Context::createDevice(bool rayQuery) {
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queueInfo{};
     queueInfo.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
@@ -268,11 +268,30 @@ void Context::createDevice() {
     features.features.shaderFloat64 = info_.shaderFloat64 ? VK_TRUE : VK_FALSE;
     if (info_.apiVersion >= VK_API_VERSION_1_2) features.pNext = &v12;
 
+    // Ray queries need acceleration structures, which need buffer device addresses.
+    std::vector<const char*> extensions;
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR accelerationFeatures{};
+    accelerationFeatures.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR;
+    VkPhysicalDeviceRayQueryFeaturesKHR rayQueryFeatures{};
+    rayQueryFeatures.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR;
+    if (rayQuery && info_.apiVersion >= VK_API_VERSION_1_2) {
+        extensions = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME,
+                      VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+        accelerationFeatures.accelerationStructure = VK_TRUE;
+        rayQueryFeatures.rayQuery = VK_TRUE;
+        v12.bufferDeviceAddress = VK_TRUE;
+        v12.pNext = &accelerationFeatures;
+        accelerationFeatures.pNext = &rayQueryFeatures;
+        rayQueryEnabled_ = true;
+    }
+
     VkDeviceCreateInfo ci{};
     ci.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
     ci.pNext = &features;
     ci.queueCreateInfoCount = 1;
     ci.pQueueCreateInfos = &queueInfo;
+    ci.enabledExtensionCount = uint32_t(extensions.size());
+    ci.ppEnabledExtensionNames = extensions.data();
     check(vkCreateDevice(physical_, &ci, nullptr, &device_), "creating the Vulkan device");
     vkGetDeviceQueue(device_, info_.queueFamily, 0, &queue_);
 

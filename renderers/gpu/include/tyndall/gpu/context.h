@@ -55,6 +55,7 @@ struct ContextOptions {
     std::string device;     // "" for the best device; a decimal index; or a case-insensitive substring of its name
     // Khronos validation layers. Default: on in debug builds and whenever TYNDALL_VULKAN_VALIDATION=1.
     int validation = -1;    // -1 default, 0 off, 1 on
+    bool rayQuery = true;   // enable VK_KHR_ray_query when the device has it (false forces the BVH path)
 };
 
 class Context {
@@ -74,6 +75,8 @@ public:
     VkDevice vk() const { return device_; }
     VkQueue queue() const { return queue_; }
     bool validationEnabled() const { return validation_; }
+    // True when the device was created with VK_KHR_ray_query, acceleration structures and buffer device addresses.
+    bool rayQueryEnabled() const { return rayQueryEnabled_; }
 
     // Messages of error severity from the validation layers since the context was created (tests fail on any).
     std::vector<std::string> validationErrors() const;
@@ -95,7 +98,7 @@ public:
 private:
     void createInstance();
     void pickDevice(const std::string& request);
-    void createDevice();
+    void createDevice(bool rayQuery);
 
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
@@ -108,6 +111,7 @@ private:
     VkPipelineCache pipelineCache_ = VK_NULL_HANDLE;
     DeviceInfo info_;
     bool validation_ = false;
+    bool rayQueryEnabled_ = false;
     std::mutex submitMutex_;
     mutable std::mutex messageMutex_;
     std::vector<std::string> validationErrors_;
