@@ -9,6 +9,20 @@
 //        BvhNode bvhNode(int i) { return bvhNodes[i]; }
 //        BvhTriangle bvhTriangle(int i) { return bvhTriangles[i]; }
 //  - C++: tyndall/gpu/bvh.h defines them over the Bvh bound to the calling thread by a tyndall::gpu::BvhScope.
+// On lavapipe (Mesa's llvmpipe) a storage-buffer load with a different index per invocation runs a scalar loop over
+// the SIMD lanes with a guarded scalar load per component, so its cost grows with the number of components and not
+// with their width. With shaderFloat64, the includer therefore reads the same std430 arrays as 64-bit words (one dvec4
+// per node, three dvec2 per triangle) and rebuilds the structs with bvhNodeFromWords and bvhTriangleFromWords, e.g.
+//        layout(std430, binding = 0) readonly buffer BvhNodes { dvec4 bvhNodes[]; };
+//        layout(std430, binding = 1) readonly buffer BvhTriangles { dvec2 bvhTriangles[]; };
+//        uvec4 bvhWords(dvec2 w) { return uvec4(unpackDouble2x32(w.x), unpackDouble2x32(w.y)); }
+//        BvhNode bvhNode(int i) { dvec4 w = bvhNodes[i]; return bvhNodeFromWords(bvhWords(w.xy), bvhWords(w.zw)); }
+//        BvhTriangle bvhTriangle(int i) {
+//            return bvhTriangleFromWords(bvhWords(bvhTriangles[3 * i]), bvhWords(bvhTriangles[3 * i + 1]),
+//                                        bvhWords(bvhTriangles[3 * i + 2]));
+//        }
+// The traversal is written to read as few components as it can: each step reads the two children of the node in
+// hand, nothing else.
 // Model: nvpro-samples' ray_tracing__simple/shaders/host_device.h (one declaration of the layout for both sides).
 #ifndef TY_SHARED_BVH_H
 #define TY_SHARED_BVH_H
@@ -56,6 +70,29 @@ TY_CONST float kBvhMiss = 3.402823466e38f;
 BvhNode bvhNode(int i);
 BvhTriangle bvhTriangle(int i);
 
+// A node from its eight 32-bit words in memory order (words 0-3 in lo, 4-7 in hi), for includers that read the node
+// array as wider words (see the top of the file).
+TY_FUNC BvhNode bvhNodeFromWords(TY_IN(uvec4) lo, TY_IN(uvec4) hi) {
+    BvhNode node;
+    node.boundsMin = uintBitsToFloat(uvec3(lo.x, lo.y, lo.z));
+    node.leftOrFirst = int(lo.w);
+    node.boundsMax = uintBitsToFloat(uvec3(hi.x, hi.y, hi.z));
+    node.count = int(hi.w);
+    return node;
+}
+
+// A triangle from its twelve 32-bit words in memory order (words 0-3 in a, 4-7 in b, 8-11 in c).
+TY_FUNC BvhTriangle bvhTriangleFromWords(TY_IN(uvec4) a, TY_IN(uvec4) b, TY_IN(uvec4) c) {
+    BvhTriangle tri;
+    tri.v0 = uintBitsToFloat(uvec3(a.x, a.y, a.z));
+    tri.id = a.w;
+    tri.e1 = uintBitsToFloat(uvec3(b.x, b.y, b.z));
+    tri.pad1 = uintBitsToFloat(b.w);
+    tri.e2 = uintBitsToFloat(uvec3(c.x, c.y, c.z));
+    tri.pad2 = uintBitsToFloat(c.w);
+    return tri;
+}
+
 // 1 / d, with |d| clamped away from zero so that slab distances stay finite (no 0 * inf = NaN for a ray in a slab's
 // plane).
 TY_FUNC float bvhSafeInverse(float d) {
@@ -97,63 +134,82 @@ TY_FUNC bool bvhTriangleHit(TY_IN(BvhTriangle) tri, TY_IN(vec3) origin, TY_IN(ve
     return t > tMin && t < tMax;
 }
 
-// The traversal behind bvhOccluded and bvhIntersect: depth first, nearer child first, the farther one on a fixed stack
-// with its entry distance, so that it is skipped once a closer hit is known. With anyHit it returns at the first hit
-// (which need not be the closest). dir need not be unit length; t is in units of |dir|.
+// The traversal behind bvhOccluded and bvhIntersect: depth first, one node per iteration of a single loop. For the
+// closest hit (anyHit false) the nearer child is visited first and the farther one waits on a fixed stack with its
+// entry distance, so that it is skipped once a closer hit is known. With anyHit it returns at the first hit (which need
+// not be the closest), so it keeps no order and no entry distances: the children are visited in their stored order.
+// anyHit is a constant at both call sites, so the branches on it fold away. dir need not be unit length; t is in units
+// of |dir|.
 TY_FUNC bool bvhTraverse(TY_IN(vec3) origin, TY_IN(vec3) dir, float tMin, float tMax, bool anyHit, TY_OUT(BvhHit) hit) {
     vec3 invDir = vec3(bvhSafeInverse(dir.x), bvhSafeInverse(dir.y), bvhSafeInverse(dir.z));
     hit.t = tMax;
     hit.id = 0u;
     hit.uv = vec2(0.0f);
     bool found = false;
+    BvhNode root = bvhNode(0);
+    if (bvhBoxEntry(root, origin, invDir, tMin, tMax) == kBvhMiss) return false;
 
-    int stackNode[kBvhStackSize];
-    float stackEntry[kBvhStackSize];
+    // The node being visited is held as its (leftOrFirst, count), read together with its bounds when its parent was
+    // visited, so that each step reads only the two children. The stack holds the same pairs.
+    int stackFirst[kBvhStackSize];
+    int stackCount[kBvhStackSize];
+    float stackEntry[kBvhStackSize];  // only for the closest hit
     int top = 0;
-    if (bvhBoxEntry(bvhNode(0), origin, invDir, tMin, tMax) == kBvhMiss) return false;
-    stackNode[top] = 0;
-    stackEntry[top] = tMin;
-    ++top;
-
-    while (top > 0) {
-        --top;
-        if (stackEntry[top] > hit.t) continue;  // a closer hit was found since this node was pushed
-        int nodeIndex = stackNode[top];
-        while (nodeIndex >= 0) {
-            BvhNode node = bvhNode(nodeIndex);
-            if (node.count > 0) {
-                for (int i = node.leftOrFirst; i < node.leftOrFirst + node.count; ++i) {
-                    BvhTriangle tri = bvhTriangle(i);
-                    float t;
-                    vec2 uv;
-                    if (bvhTriangleHit(tri, origin, dir, tMin, hit.t, t, uv)) {
-                        hit.t = t;
-                        hit.id = tri.id;
-                        hit.uv = uv;
-                        found = true;
-                        if (anyHit) return true;
-                    }
+    int first = root.leftOrFirst;
+    int count = root.count;
+    bool visiting = true;
+    while (visiting) {
+        visiting = false;
+        if (count > 0) {
+            for (int i = first; i < first + count; ++i) {
+                BvhTriangle tri = bvhTriangle(i);
+                float t;
+                vec2 uv;
+                if (bvhTriangleHit(tri, origin, dir, tMin, hit.t, t, uv)) {
+                    hit.t = t;
+                    hit.id = tri.id;
+                    hit.uv = uv;
+                    found = true;
+                    if (anyHit) return true;
                 }
-                nodeIndex = -1;
-            } else {
-                int nearChild = node.leftOrFirst;
-                int farChild = node.leftOrFirst + 1;
-                float entryNear = bvhBoxEntry(bvhNode(nearChild), origin, invDir, tMin, hit.t);
-                float entryFar = bvhBoxEntry(bvhNode(farChild), origin, invDir, tMin, hit.t);
-                if (entryFar < entryNear) {
-                    int swapNode = nearChild;
-                    nearChild = farChild;
-                    farChild = swapNode;
-                    float swapEntry = entryNear;
-                    entryNear = entryFar;
-                    entryFar = swapEntry;
-                }
-                if (entryFar != kBvhMiss && top < kBvhStackSize) {
-                    stackNode[top] = farChild;
-                    stackEntry[top] = entryFar;
-                    ++top;
-                }
-                nodeIndex = entryNear != kBvhMiss ? nearChild : -1;
+            }
+        } else {
+            BvhNode nearNode = bvhNode(first);
+            BvhNode farNode = bvhNode(first + 1);
+            float entryNear = bvhBoxEntry(nearNode, origin, invDir, tMin, hit.t);
+            float entryFar = bvhBoxEntry(farNode, origin, invDir, tMin, hit.t);
+            if (!anyHit && entryFar < entryNear) {
+                BvhNode swapNode = nearNode;
+                nearNode = farNode;
+                farNode = swapNode;
+                float swapEntry = entryNear;
+                entryNear = entryFar;
+                entryFar = swapEntry;
+            }
+            if (entryNear == kBvhMiss) {
+                nearNode = farNode;
+                entryNear = entryFar;
+                entryFar = kBvhMiss;
+            }
+            if (entryFar != kBvhMiss && top < kBvhStackSize) {
+                stackFirst[top] = farNode.leftOrFirst;
+                stackCount[top] = farNode.count;
+                if (!anyHit) stackEntry[top] = entryFar;
+                ++top;
+            }
+            if (entryNear != kBvhMiss) {
+                first = nearNode.leftOrFirst;
+                count = nearNode.count;
+                visiting = true;
+            }
+        }
+        while (!visiting && top > 0) {
+            --top;
+            // Skipped when a closer hit was found since the node was pushed.
+            if (anyHit || stackEntry[top] <= hit.t) {
+                first = stackFirst[top];
+                count = stackCount[top];
+                visiting = true;
             }
         }
     }

@@ -23,21 +23,41 @@ std::uint32_t groupsFor(std::uint32_t rays) {
     return (rays + kGroupSize - 1) / kGroupSize;
 }
 
-// One ray per invocation: bvhOccluded over the interval (0, tMax). Rays are (origin, tMax), (dir, 0).
-constexpr const char* kBvhKernel = R"(#version 460
+// One ray per invocation: bvhOccluded over the interval (0, tMax). Rays are (origin, tMax), (dir, 0). The BVH arrays
+// are bound by one of the two accessor blocks below, which the kernel source is assembled from.
+constexpr const char* kBvhKernelHead = R"(#version 460
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bvh.h"
 layout(local_size_x = 64) in;
+)";
+
+// The arrays as 64-bit words, the cheaper loads on lavapipe (see the top of shared/bvh.h); needs shaderFloat64.
+constexpr const char* kBvhAccessWords = R"(
+layout(std430, set = 0, binding = 0) readonly buffer BvhNodes { dvec4 bvhNodes[]; };
+layout(std430, set = 0, binding = 1) readonly buffer BvhTriangles { dvec2 bvhTriangles[]; };
+uvec4 bvhWords(dvec2 w) { return uvec4(unpackDouble2x32(w.x), unpackDouble2x32(w.y)); }
+BvhNode bvhNode(int i) { dvec4 w = bvhNodes[i]; return bvhNodeFromWords(bvhWords(w.xy), bvhWords(w.zw)); }
+BvhTriangle bvhTriangle(int i) {
+    return bvhTriangleFromWords(bvhWords(bvhTriangles[3 * i]), bvhWords(bvhTriangles[3 * i + 1]),
+                                bvhWords(bvhTriangles[3 * i + 2]));
+}
+)";
+
+// The arrays as structs, for devices without shaderFloat64.
+constexpr const char* kBvhAccessStructs = R"(
 layout(std430, set = 0, binding = 0) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
 layout(std430, set = 0, binding = 1) readonly buffer BvhTriangles { BvhTriangle bvhTriangles[]; };
+BvhNode bvhNode(int i) { return bvhNodes[i]; }
+BvhTriangle bvhTriangle(int i) { return bvhTriangles[i]; }
+)";
+
+constexpr const char* kBvhKernelMain = R"(
 layout(std430, set = 0, binding = 2) readonly buffer Rays { vec4 rays[]; };
 layout(std430, set = 0, binding = 3) writeonly buffer Occluded { uint occluded[]; };  // 1 occluded, 0 visible
 layout(push_constant) uniform Push {
     uint first;  // first ray of this dispatch
     uint count;  // number of rays in all
 } push;
-BvhNode bvhNode(int i) { return bvhNodes[i]; }
-BvhTriangle bvhTriangle(int i) { return bvhTriangles[i]; }
 void main() {
     uint i = push.first + gl_GlobalInvocationID.x;
     if (i >= push.count) return;
@@ -395,7 +415,9 @@ void Visibility::createBvhBackend(const std::vector<TriangleMesh>& meshes) {
                                           std::max<std::size_t>(bvh.triangles.size(), 1) * sizeof(shader::BvhTriangle));
     triangles_->upload(bvh.triangles);
 
-    CompileResult compiled = compileGlslSource(kBvhKernel, "visibility_bvh.comp.glsl", ShaderStage::Compute);
+    const std::string source = std::string(kBvhKernelHead) +
+                               (context_.device().shaderFloat64 ? kBvhAccessWords : kBvhAccessStructs) + kBvhKernelMain;
+    CompileResult compiled = compileGlslSource(source, "visibility_bvh.comp.glsl", ShaderStage::Compute);
     if (!compiled.ok) throw ShaderError(*compiled.error);
     bvhKernel_ =
         std::make_unique<ComputeKernel>(context_, compiled.spirv, 4, std::uint32_t(sizeof(BvhPush)), "visibility_bvh");
