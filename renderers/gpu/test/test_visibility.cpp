@@ -3,6 +3,7 @@
 // through every bundled project, and the small cases.
 #include "tyndall/gpu/visibility.h"
 
+#include "bundled_scenes.h"
 #include "gpu_test.h"
 
 #include "shared/rng.h"
@@ -29,28 +30,8 @@ using glm::uvec3;
 using glm::vec3;
 using glm::vec4;
 
-// Every project bundled with Tyndall, with its meshes built (as in test_bvh.cpp).
-struct BundledScene {
-    std::string name;
-    std::vector<TriangleMesh> meshes;
-};
-
-std::vector<BundledScene> bundledScenes() {
-    std::vector<std::filesystem::path> paths;
-    for (const char* folder : {"/projects", "/projects/examples"})
-        for (const auto& entry : std::filesystem::directory_iterator(std::string(TYNDALL_SOURCE_DIR) + folder))
-            if (entry.is_regular_file() && entry.path().extension() == ".json") paths.push_back(entry.path());
-    std::sort(paths.begin(), paths.end());
-    std::vector<BundledScene> scenes;
-    for (const auto& path : paths) {
-        Project project = loadProject(path.string());
-        BundledScene scene{path.filename().string(), {}};
-        for (const Mesh& mesh : project.scene.meshes)
-            scene.meshes.push_back(buildMesh(mesh, path.parent_path().string()));
-        scenes.push_back(std::move(scene));
-    }
-    return scenes;
-}
+using test::BundledScene;
+using test::bundledScenes;
 
 // The same triangles in Embree, configured as the reference configures them (robust, high quality).
 class EmbreeOcclusion {
