@@ -27,7 +27,8 @@ inline std::vector<BundledScene> bundledScenes() {
     for (const auto& path : paths) {
         Project project = loadProject(path.string());
         BundledScene scene{path.filename().string(), {}};
-        for (const Mesh& mesh : project.scene.meshes) scene.meshes.push_back(buildMesh(mesh, path.parent_path().string()));
+        for (const Mesh& mesh : project.scene.meshes)
+            scene.meshes.push_back(buildMesh(mesh, path.parent_path().string()));
         scenes.push_back(std::move(scene));
     }
     return scenes;
