@@ -169,7 +169,7 @@ Context::Context(const ContextOptions& options) {
         pickDevice(options.device);
         createDevice(options.rayQuery && info_.rayQuery);
     } catch (...) {
-        this->~Context();
+        release();  // the destructor does not run for a constructor that throws
         throw;
     }
 }
@@ -318,7 +318,9 @@ void Context::createDevice(bool rayQuery) {
     check(vkCreatePipelineCache(device_, &cacheInfo, nullptr, &pipelineCache_), "creating a pipeline cache");
 }
 
-Context::~Context() {
+Context::~Context() { release(); }
+
+void Context::release() {
     if (device_) {
         vkDeviceWaitIdle(device_);
         if (pipelineCache_) vkDestroyPipelineCache(device_, pipelineCache_, nullptr);

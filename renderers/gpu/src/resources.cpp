@@ -157,12 +157,14 @@ ComputeKernel::ComputeKernel(Context& context, const std::vector<std::uint32_t>&
         check(vkCreateComputePipelines(device, context.pipelineCache(), 1, &pipelineInfo, nullptr, &pipeline_),
               ("creating compute pipeline " + name).c_str());
     } catch (...) {
-        this->~ComputeKernel();
+        release();  // the destructor does not run for a constructor that throws
         throw;
     }
 }
 
-ComputeKernel::~ComputeKernel() {
+ComputeKernel::~ComputeKernel() { release(); }
+
+void ComputeKernel::release() {
     VkDevice device = context_.vk();
     for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(device, pool, nullptr);
     pools_.clear();

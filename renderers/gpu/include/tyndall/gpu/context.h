@@ -99,6 +99,7 @@ private:
     void createInstance();
     void pickDevice(const std::string& request);
     void createDevice(bool rayQuery);
+    void release();  // destroys the Vulkan objects created so far
 
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;

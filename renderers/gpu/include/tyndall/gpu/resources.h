@@ -62,6 +62,7 @@ public:
 
 private:
     void growPool();
+    void release();  // destroys the Vulkan objects created so far
 
     Context& context_;
     std::string name_;
