@@ -88,7 +88,8 @@ bool EmbreeScene::clip(const ConvexVolume& volume, const vec3& origin, const vec
 
 EmbreeScene::EmbreeScene(const std::vector<TriangleGeometry>& meshes, std::vector<ConvexVolume> volumes)
     : meshes_(meshes), volumes_(std::move(volumes)) {
-    device_ = rtcNewDevice("threads=1");  // Embree builds on the calling thread; TBB runs the renders
+    // No "threads=N" here: Embree applies it as a process-wide TBB limit, which would serialise the renders too.
+    device_ = rtcNewDevice(nullptr);
     if (!device_) throw std::runtime_error("Embree could not create a device");
 
     surfaces_ = rtcNewScene(device_);
