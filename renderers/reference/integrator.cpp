@@ -13,18 +13,29 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-vec3 toVec3(const Vec3& v) { return vec3(float(v.x), float(v.y), float(v.z)); }
+vec3 toVec3(const Vec3& v) {
+    return vec3(float(v.x), float(v.y), float(v.z));
+}
 
-float average(const vec3& v) { return (v.x + v.y + v.z) * (1.0f / 3.0f); }
-float maxComponent(const vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
-bool isBlack(const vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
+float average(const vec3& v) {
+    return (v.x + v.y + v.z) * (1.0f / 3.0f);
+}
+float maxComponent(const vec3& v) {
+    return std::max(v.x, std::max(v.y, v.z));
+}
+bool isBlack(const vec3& v) {
+    return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f;
+}
 
-vec3 expNeg(const vec3& tau) { return vec3(std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)); }
+vec3 expNeg(const vec3& tau) {
+    return vec3(std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z));
+}
 
 // A convex volume from half-spaces with unit normals.
 ConvexVolume toConvexVolume(const std::vector<HalfSpace>& planes, const Vec3& lo, const Vec3& hi) {
     ConvexVolume volume;
-    for (const HalfSpace& h : planes) volume.planes.emplace_back(toVec3(h.normal), float(h.offset));
+    for (const HalfSpace& h : planes)
+        volume.planes.emplace_back(toVec3(h.normal), float(h.offset));
     volume.boundsMin = toVec3(lo);
     volume.boundsMax = toVec3(hi);
     return volume;
@@ -47,7 +58,8 @@ ConvexVolume tetrahedronVolume(const std::array<Vec3, 4>& v) {
 
 float polynomialValue(const std::vector<float>& c, float mu) {
     float value = 0.0f;
-    for (size_t k = c.size(); k-- > 0;) value = value * mu + c[k];
+    for (size_t k = c.size(); k-- > 0;)
+        value = value * mu + c[k];
     return value;
 }
 
@@ -77,16 +89,33 @@ PhaseParams toPhaseParams(const PhaseFunction& phase) {
     p.a = float(phase.a);
     p.b = float(phase.b);
     switch (phase.kind) {
-        case PhaseKind::Isotropic: p.kind = shader::kPhaseIsotropic; break;
-        case PhaseKind::HenyeyGreenstein: p.kind = shader::kPhaseHenyeyGreenstein; break;
-        case PhaseKind::IsoHgMix: p.kind = shader::kPhaseIsoHgMix; break;
-        case PhaseKind::Rayleigh: p.kind = shader::kPhaseRayleigh; break;
-        case PhaseKind::Eddington: p.kind = shader::kPhaseEddington; break;
+        case PhaseKind::Isotropic:
+            p.kind = shader::kPhaseIsotropic;
+            break;
+        case PhaseKind::HenyeyGreenstein:
+            p.kind = shader::kPhaseHenyeyGreenstein;
+            break;
+        case PhaseKind::IsoHgMix:
+            p.kind = shader::kPhaseIsoHgMix;
+            break;
+        case PhaseKind::Rayleigh:
+            p.kind = shader::kPhaseRayleigh;
+            break;
+        case PhaseKind::Eddington:
+            p.kind = shader::kPhaseEddington;
+            break;
+        case PhaseKind::HazyMie:
+            p.kind = shader::kPhaseHazyMie;
+            break;
+        case PhaseKind::MurkyMie:
+            p.kind = shader::kPhaseMurkyMie;
+            break;
         case PhaseKind::Legendre:
             p.kind = shader::kPhaseLegendre;
             TY_CHECK(phase.legendre.size() <= size_t(shader::kMaxLegendreTerms), "too many Legendre terms");
             p.terms = int(phase.legendre.size());
-            for (size_t i = 0; i < phase.legendre.size(); ++i) p.legendre[i] = float(phase.legendre[i]);
+            for (size_t i = 0; i < phase.legendre.size(); ++i)
+                p.legendre[i] = float(phase.legendre[i]);
             break;
     }
     return p;
@@ -160,7 +189,8 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
             rs->particles.push_back(pp);
             std::array<Vec3, 4> v = tetrahedronVertices(p);
             volumes.push_back(tetrahedronVolume(v));
-            for (const Vec3& q : v) grow(q);
+            for (const Vec3& q : v)
+                grow(q);
         }
     }
 
@@ -170,7 +200,8 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
         p.position = toVec3(l.position);
         p.intensity = toVec3(l.intensity);
         p.axis = toVec3(glm::normalize(l.distribution.axis));
-        for (double c : l.distribution.polynomial()) p.polynomial.push_back(float(c));
+        for (double c : l.distribution.polynomial())
+            p.polynomial.push_back(float(c));
         rs->pointLights.push_back(p);
         grow(l.position);
     }
@@ -186,7 +217,8 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
                 throw InputError(InputLocation{"", 0, 0, "lights." + l.name + ".gobo"},
                                  "the gobo's plane contains the light direction, so no light passes through it");
             Vec3 centroid(0.0);
-            for (const Vec3& v : l.gobo) centroid += v;
+            for (const Vec3& v : l.gobo)
+                centroid += v;
             centroid /= double(l.gobo.size());
             for (size_t i = 0; i < l.gobo.size(); ++i) {
                 const Vec3& a = l.gobo[i];
@@ -234,7 +266,8 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
         g.positions = tm.positions;
         g.normals = tm.normals;
         g.triangles = tm.triangles;
-        for (const glm::vec3& p : tm.positions) grow(Vec3(p));
+        for (const glm::vec3& p : tm.positions)
+            grow(Vec3(p));
         geometry.push_back(std::move(g));
         PreparedMesh pm;
         auto it = std::find_if(scene.materials.begin(), scene.materials.end(),
@@ -272,7 +305,8 @@ void Integrator::buildSegment(const vec3& origin, const vec3& dir, float tMax, S
     segment.dir = dir;
     segment.tMax = tMax;
     segment.spans.clear();
-    for (int m : scene_.infiniteMedia) segment.spans.push_back(Span{0.0f, tMax, m, -1});
+    for (int m : scene_.infiniteMedia)
+        segment.spans.push_back(Span{0.0f, tMax, m, -1});
     thread_local std::vector<VolumeHit> hits;
     hits.clear();
     scene_.embree->volumeIntervals(origin, dir, 0.0f, tMax, hits);
@@ -299,8 +333,10 @@ vec3 Integrator::sigmaT(const Segment& segment, float t) const {
     vec3 x = segment.origin + t * segment.dir;
     for (const Span& s : segment.spans) {
         if (t < s.t0 || t >= s.t1) continue;
-        if (s.particle < 0) sum += scene_.media[s.medium].sigma_t;
-        else sum += vec3(particleExtinction(scene_.particles[s.particle], x));
+        if (s.particle < 0)
+            sum += scene_.media[s.medium].sigma_t;
+        else
+            sum += vec3(particleExtinction(scene_.particles[s.particle], x));
     }
     return sum;
 }
@@ -377,7 +413,8 @@ bool Integrator::sampleCollision(const Segment& segment, SampleStream& samples, 
     float t = events.front().t;
     for (size_t i = 0; i < events.size();) {
         // Apply every event at this position.
-        while (i < events.size() && events[i].t <= t) majorant += events[i++].delta;
+        while (i < events.size() && events[i].t <= t)
+            majorant += events[i++].delta;
         if (majorant < 1e-9) majorant = 0.0;
         float next = i < events.size() ? events[i].t : kInf;
         next = std::min(next, segment.tMax);
@@ -413,8 +450,10 @@ vec3 Integrator::inScattering(const Segment& segment, float t, float mu) const {
         if (t < s.t0 || t >= s.t1) continue;
         const PreparedMedium& m = scene_.media[s.medium];
         float p = shader::phaseEval(m.phase, mu);
-        if (s.particle < 0) sum += m.sigma_s * p;
-        else sum += m.sigma_s * (particleExtinction(scene_.particles[s.particle], x) * p);
+        if (s.particle < 0)
+            sum += m.sigma_s * p;
+        else
+            sum += m.sigma_s * (particleExtinction(scene_.particles[s.particle], x) * p);
     }
     return sum;
 }
@@ -564,8 +603,7 @@ float Integrator::lightPdf(int light, const vec3& x, const vec3& wi) const {
 
 bool Integrator::hitAreaLight(const vec3& origin, const vec3& dir, float tMax, int& light, float& t) const {
     // Used per light by the caller: `light` is the area light to test (its global index); t receives the distance.
-    const PreparedAreaLight& a =
-        scene_.areaLights[light - scene_.pointLights.size() - scene_.directionalLights.size()];
+    const PreparedAreaLight& a = scene_.areaLights[light - scene_.pointLights.size() - scene_.directionalLights.size()];
     float side = glm::dot(origin - a.vertices[0], a.normal);
     if (side == 0.0f || (!a.twoSided && side < 0.0f)) return false;
     float cosLight = glm::dot(dir, a.normal);
@@ -669,8 +707,8 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
         bool active = false;
         bool medium = false;
         vec3 x{0.0f};
-        float pDistance = 0.0f;   // medium: delta-tracking pdf of the vertex (0 when T1 was off)
-        float pDirection = 0.0f;  // pdf of the sampled direction (phase mixture or BSDF)
+        float pDistance = 0.0f;        // medium: delta-tracking pdf of the vertex (0 when T1 was off)
+        float pDirection = 0.0f;       // pdf of the sampled direction (phase mixture or BSDF)
         std::vector<float> pTargeted;  // medium: light-targeted pdfs of the vertex per area light (0 when T2 was off)
         std::vector<char> t1;          // medium: whether T1 was on per area light
     } pending;

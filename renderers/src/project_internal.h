@@ -28,13 +28,15 @@ struct EnumName {
 inline constexpr EnumName<PhaseKind> kPhaseKindNames[] = {
     {PhaseKind::Isotropic, "isotropic"}, {PhaseKind::HenyeyGreenstein, "hg"}, {PhaseKind::IsoHgMix, "mix"},
     {PhaseKind::Rayleigh, "rayleigh"},   {PhaseKind::Eddington, "eddington"}, {PhaseKind::Legendre, "legendre"},
+    {PhaseKind::HazyMie, "hazy-mie"},    {PhaseKind::MurkyMie, "murky-mie"},
 };
 inline constexpr EnumName<MediumShape> kMediumShapeNames[] = {
     {MediumShape::Infinite, "infinite"}, {MediumShape::Box, "box"}, {MediumShape::ConvexPolyhedron, "polyhedron"}};
 inline constexpr EnumName<AngularDistribution::Kind> kDistributionNames[] = {
     {AngularDistribution::Kind::Isotropic, "isotropic"},
     {AngularDistribution::Kind::Spot, "spot"},
-    {AngularDistribution::Kind::Polynomial, "polynomial"}};
+    {AngularDistribution::Kind::Polynomial, "polynomial"},
+    {AngularDistribution::Kind::Legendre, "legendre"}};
 inline constexpr EnumName<Material::Kind> kMaterialKindNames[] = {{Material::Kind::Diffuse, "diffuse"},
                                                                   {Material::Kind::GGX, "ggx"}};
 inline constexpr EnumName<Mesh::Source> kMeshSourceNames[] = {{Mesh::Source::Plane, "plane"},

@@ -353,6 +353,8 @@ AngularDistribution readDistribution(const JsonField& f) {
     d.coefficients = f["coefficients"].numbersOr({});
     requireAtMostTerms(f["coefficients"], d.coefficients);
     if (d.kind == AngularDistribution::Kind::Polynomial) requireValidPolynomial(f["coefficients"], d.coefficients);
+    if (d.kind == AngularDistribution::Kind::Legendre)
+        requireValidPolynomial(f["coefficients"], legendreToMonomial(d.coefficients));
     return d;
 }
 

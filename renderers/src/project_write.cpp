@@ -130,7 +130,8 @@ json toJson(const AngularDistribution& d) {
     json j = {{"type", enumName(kDistributionNames, d.kind)}};
     putWhen(j, "axis", d.kind != Kind::Isotropic, d.axis, defaults.axis);
     if (d.kind == Kind::Spot || d.spotExponent != defaults.spotExponent) j["exponent"] = exponentJson(d.spotExponent);
-    putWhen(j, "coefficients", d.kind == Kind::Polynomial, d.coefficients, defaults.coefficients);
+    putWhen(j, "coefficients", d.kind == Kind::Polynomial || d.kind == Kind::Legendre, d.coefficients,
+            defaults.coefficients);
     return j;
 }
 

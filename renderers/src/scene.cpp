@@ -121,6 +121,10 @@ const char* toString(PhaseKind kind) {
             return "eddington";
         case PhaseKind::Legendre:
             return "legendre";
+        case PhaseKind::HazyMie:
+            return "hazy-mie";
+        case PhaseKind::MurkyMie:
+            return "murky-mie";
     }
     return "unknown";
 }
@@ -134,12 +138,39 @@ std::vector<Particle> ParticleMedium::allParticles() const {
     return all;
 }
 
+std::vector<double> legendreToMonomial(const std::vector<double>& a) {
+    // The monomial coefficients of P_n by Bonnet's recurrence (n + 1) P_{n+1} = (2n + 1) mu P_n - n P_{n-1}: the same
+    // numbers as Eq. 13's explicit sum, without its large factorials.
+    const std::size_t terms = a.size();
+    std::vector<double> c(terms, 0.0);
+    std::vector<double> previous(terms + 1, 0.0), current(terms + 1, 0.0), next(terms + 1, 0.0);
+    previous[0] = 1.0;  // P_0
+    current[1] = 1.0;   // P_1
+    for (std::size_t n = 0; n < terms; ++n) {
+        const std::vector<double>& pn = n == 0 ? previous : current;
+        for (std::size_t k = 0; k <= n; ++k)
+            c[k] += a[n] * pn[k];
+        if (n == 0) continue;
+        const double dn = double(n);
+        std::fill(next.begin(), next.end(), 0.0);
+        for (std::size_t k = 0; k + 1 <= n + 1 && k < terms; ++k) {
+            next[k + 1] += (2.0 * dn + 1.0) * current[k] / (dn + 1.0);
+            next[k] -= dn * previous[k] / (dn + 1.0);
+        }
+        std::swap(previous, current);
+        std::swap(current, next);
+    }
+    return c;
+}
+
 std::vector<double> AngularDistribution::polynomial() const {
     switch (kind) {
         case Kind::Isotropic:
             return {1.0};
         case Kind::Polynomial:
             return coefficients;
+        case Kind::Legendre:
+            return legendreToMonomial(coefficients);
         case Kind::Spot:
             break;
     }

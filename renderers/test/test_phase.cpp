@@ -3,6 +3,7 @@
 // (CDF, expansion of a known polynomial).
 #include "shared/phase.h"
 #include "shared/rng.h"
+#include "tyndall/scene.h"
 
 #include "stats.h"
 
@@ -134,9 +135,15 @@ std::vector<NamedPhase> legendrePhases() {
     return {legendre("{1, 0.9, 0.5, 0.1}", kSmoothLegendre), legendre("hazy Mie", hazyMieCoefficients())};
 }
 
+// The Mie presets: mean cosine (n + 1) / (n + 2) - 1/2 of the half-weight lobe ((1 + mu) / 2)^n.
+std::vector<NamedPhase> miePhases() {
+    return {{"hazy Mie", makePhase(sh::kPhaseHazyMie), 9.0 / 10.0 - 0.5},
+            {"murky Mie", makePhase(sh::kPhaseMurkyMie), 33.0 / 34.0 - 0.5}};
+}
+
 std::vector<NamedPhase> allPhases() {
     std::vector<NamedPhase> phases = {isotropic(), rayleigh()};
-    for (const auto& family : {hgPhases(), mixPhases(), eddingtonPhases(), legendrePhases()})
+    for (const auto& family : {hgPhases(), mixPhases(), eddingtonPhases(), legendrePhases(), miePhases()})
         phases.insert(phases.end(), family.begin(), family.end());
     return phases;
 }
@@ -259,6 +266,17 @@ TEST(Eddington, SamplingMatchesPdf) {
     expectPhaseSamplingMatchesPdf(eddingtonPhases());
 }
 // 300k samples: the Legendre sampler bisects its CDF (24 evaluations per sample).
+TEST(MiePresets, SamplingMatchesPdf) {
+    expectPhaseSamplingMatchesPdf(miePhases());
+}
+// The presets are the polynomials they are named after.
+TEST(MiePresets, EvaluateTheirPolynomials) {
+    for (double mu = -1.0; mu <= 1.0; mu += 0.01) {
+        EXPECT_NEAR(eval(makePhase(sh::kPhaseHazyMie), mu), hazyMie4Pi(mu) / (4.0 * kPi), 1e-6 * hazyMie4Pi(mu));
+        const double murky = 0.5 + 16.5 * std::pow(0.5 * (1.0 + mu), 32.0);
+        EXPECT_NEAR(eval(makePhase(sh::kPhaseMurkyMie), mu), murky / (4.0 * kPi), 1e-6 * murky);
+    }
+}
 TEST(Legendre, SamplingMatchesPdf) {
     expectPhaseSamplingMatchesPdf(legendrePhases(), 300000);
 }
@@ -311,6 +329,41 @@ TEST(Legendre, CdfIsMonotoneFromZeroToOne) {
             EXPECT_NEAR(sh::legendreCdf(p, float(mu)), reference, 2e-6) << "mu = " << mu;
         }
     }
+}
+
+// legendreToMonomial against the explicit sum of Eq. 13 (Pegoraro (003)):
+//   P_n(mu) = 2^-n sum_{j <= n/2} (-1)^j (2n - 2j)! / (j! (n - j)! (n - 2j)!) mu^(n - 2j),
+// evaluated in long double, for each P_n alone and for a random combination of 25 terms.
+TEST(Legendre, MonomialCoefficientsMatchEquation13) {
+    auto factorial = [](int n) {
+        long double f = 1.0L;
+        for (int i = 2; i <= n; ++i)
+            f *= i;
+        return f;
+    };
+    const int terms = 25;
+    std::vector<long double> expected(terms, 0.0L);
+    std::vector<double> a(terms);
+    sh::Pcg32 rng = sh::pcg32Seed(5u, 9u);
+    for (int n = 0; n < terms; ++n) {
+        a[size_t(n)] = 2.0 * double(sh::pcg32NextFloat(rng)) - 1.0;
+        std::vector<double> single(size_t(n) + 1, 0.0);
+        single[size_t(n)] = 1.0;
+        const std::vector<double> c = legendreToMonomial(single);
+        for (int j = 0; 2 * j <= n; ++j) {
+            const long double cj = (j % 2 ? -1.0L : 1.0L) * factorial(2 * n - 2 * j) /
+                                   (std::pow(2.0L, n) * factorial(j) * factorial(n - j) * factorial(n - 2 * j));
+            EXPECT_NEAR(c[size_t(n - 2 * j)], double(cj), 1e-12 * std::max(1.0, std::abs(double(cj))))
+                << "P_" << n << ", mu^" << n - 2 * j;
+            expected[size_t(n - 2 * j)] += a[size_t(n)] * cj;
+        }
+        for (int k = n - 1; k >= 0; k -= 2)
+            EXPECT_EQ(c[size_t(k)], 0.0) << "P_" << n << ", mu^" << k;
+    }
+    const std::vector<double> c = legendreToMonomial(a);
+    for (int k = 0; k < terms; ++k)
+        EXPECT_NEAR(c[size_t(k)], double(expected[size_t(k)]),
+                    1e-9 * std::max(1.0, std::abs(double(expected[size_t(k)]))));
 }
 
 }  // namespace

@@ -258,6 +258,10 @@ TEST(SceneDistribution, ExpandsEveryKindAsAPolynomial) {
     d.kind = AngularDistribution::Kind::Polynomial;
     d.coefficients = {0.5, 0.5};
     EXPECT_EQ(d.polynomial(), d.coefficients);
+    // Legendre: 1 + 0.5 P_1 + 0.5 P_2 = 0.75 + 0.5 mu + 0.75 mu^2.
+    d.kind = AngularDistribution::Kind::Legendre;
+    d.coefficients = {1.0, 0.5, 0.5};
+    EXPECT_EQ(d.polynomial(), (std::vector<double>{0.75, 0.5, 0.75}));
 }
 
 TEST(SceneDistribution, SpotExpansionMatchesThePowerUpToExponent256) {
@@ -714,6 +718,12 @@ TEST(ProjectLoad, RejectsNegativeLightDistribution) {
     EXPECT_TRUE(failsAt(
         [](json& j) {
             j["lights"][0]["distribution"] = json{{"type", "polynomial"}, {"coefficients", {0, 1}}};
+        },
+        "lights[0].distribution.coefficients", "it is -1 at cos = -1"));
+    // 1 + 2 P_1 is -1 at cos = -1 as well.
+    EXPECT_TRUE(failsAt(
+        [](json& j) {
+            j["lights"][0]["distribution"] = json{{"type", "legendre"}, {"coefficients", {1, 2}}};
         },
         "lights[0].distribution.coefficients", "it is -1 at cos = -1"));
     EXPECT_TRUE(failsAt(

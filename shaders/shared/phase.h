@@ -19,15 +19,18 @@ TY_CONST int kPhaseIsoHgMix = 2;
 TY_CONST int kPhaseRayleigh = 3;
 TY_CONST int kPhaseEddington = 4;
 TY_CONST int kPhaseLegendre = 5;
+TY_CONST int kPhaseHazyMie =
+    6;  // 4 pi p = 1/2 + 9/2 ((1 + mu) / 2)^8   (Nishita et al. 1987; Pegoraro (003), Sec. 3.2)
+TY_CONST int kPhaseMurkyMie = 7;  // 4 pi p = 1/2 + 33/2 ((1 + mu) / 2)^32
 TY_CONST int kMaxLegendreTerms = 32;
 
 // A phase function as plain data (std430-compatible: 4-byte members only).
 struct PhaseParams {
-    int kind;   // one of kPhase*
-    float g;    // HG and mix: asymmetry in (-1, 1)
-    float a;    // mix: weight of the HG lobe in [0, 1]
-    float b;    // Eddington: (1 + b mu) / (4 pi), b in [-1, 1]
-    int terms;  // Legendre: number of coefficients in use
+    int kind;                           // one of kPhase*
+    float g;                            // HG and mix: asymmetry in (-1, 1)
+    float a;                            // mix: weight of the HG lobe in [0, 1]
+    float b;                            // Eddington: (1 + b mu) / (4 pi), b in [-1, 1]
+    int terms;                          // Legendre: number of coefficients in use
     float legendre[kMaxLegendreTerms];  // Legendre: a_0 = 1, a_1, ...
 };
 
@@ -66,12 +69,29 @@ TY_FUNC float legendreCdf(TY_IN(PhaseParams) p, float mu) {
     return clamp(0.5f * integral, 0.0f, 1.0f);
 }
 
+// The hazy and murky Mie presets are half isotropic and half the lobe ((1 + mu) / 2)^n, normalised: the lobe integrates
+// to 4 pi / (n + 1) over the sphere, so its weight is (n + 1) / 2 for half the energy.
+TY_FUNC int mieLobeExponent(int kind) {
+    return kind == kPhaseHazyMie ? 8 : 32;
+}
+
+TY_FUNC float mieLobe(int n, float mu) {
+    return 0.5f * float(n + 1) * pow(max(0.0f, 0.5f * (1.0f + mu)), float(n));
+}
+
+// mu with density proportional to ((1 + mu) / 2)^n: the CDF is ((1 + mu) / 2)^(n+1).
+TY_FUNC float sampleMieLobeMu(int n, float u) {
+    return clamp(2.0f * pow(u, 1.0f / float(n + 1)) - 1.0f, -1.0f, 1.0f);
+}
+
 TY_FUNC float phaseEval(TY_IN(PhaseParams) p, float mu) {
     if (p.kind == kPhaseHenyeyGreenstein) return henyeyGreenstein(mu, p.g);
     if (p.kind == kPhaseIsoHgMix) return (1.0f - p.a) * kInvFourPi + p.a * henyeyGreenstein(mu, p.g);
     if (p.kind == kPhaseRayleigh) return 3.0f / (16.0f * kPi) * (1.0f + mu * mu);
     if (p.kind == kPhaseEddington) return kInvFourPi * (1.0f + p.b * mu);
     if (p.kind == kPhaseLegendre) return max(0.0f, kInvFourPi * legendreSeries(p, mu));
+    if (p.kind == kPhaseHazyMie || p.kind == kPhaseMurkyMie)
+        return kInvFourPi * (0.5f + mieLobe(mieLobeExponent(p.kind), mu));
     return kInvFourPi;
 }
 
@@ -104,8 +124,10 @@ TY_FUNC float sampleLegendreMu(TY_IN(PhaseParams) p, float u) {
     float lo = -1.0f, hi = 1.0f;
     for (int i = 0; i < 24; ++i) {
         float mid = 0.5f * (lo + hi);
-        if (legendreCdf(p, mid) < u) lo = mid;
-        else hi = mid;
+        if (legendreCdf(p, mid) < u)
+            lo = mid;
+        else
+            hi = mid;
     }
     return 0.5f * (lo + hi);
 }
@@ -117,14 +139,22 @@ TY_FUNC vec3 phaseSample(TY_IN(PhaseParams) p, TY_IN(vec3) w, TY_IN(vec2) u, TY_
         mu = sampleHenyeyGreensteinMu(p.g, u.x);
     } else if (p.kind == kPhaseIsoHgMix) {
         // Choose the lobe with u.x, then reuse the remainder of u.x as a fresh uniform number.
-        if (u.x < p.a) mu = sampleHenyeyGreensteinMu(p.g, min(u.x / p.a, kOneMinusEpsilon));
-        else mu = 1.0f - 2.0f * min((u.x - p.a) / (1.0f - p.a), kOneMinusEpsilon);
+        if (u.x < p.a)
+            mu = sampleHenyeyGreensteinMu(p.g, min(u.x / p.a, kOneMinusEpsilon));
+        else
+            mu = 1.0f - 2.0f * min((u.x - p.a) / (1.0f - p.a), kOneMinusEpsilon);
     } else if (p.kind == kPhaseRayleigh) {
         mu = sampleRayleighMu(u.x);
     } else if (p.kind == kPhaseEddington) {
         mu = sampleEddingtonMu(p.b, u.x);
     } else if (p.kind == kPhaseLegendre) {
         mu = sampleLegendreMu(p, u.x);
+    } else if (p.kind == kPhaseHazyMie || p.kind == kPhaseMurkyMie) {
+        // Half the energy in each part: choose with u.x and reuse its remainder.
+        if (u.x < 0.5f)
+            mu = 1.0f - 2.0f * min(2.0f * u.x, kOneMinusEpsilon);
+        else
+            mu = sampleMieLobeMu(mieLobeExponent(p.kind), min(2.0f * u.x - 1.0f, kOneMinusEpsilon));
     } else {
         mu = 1.0f - 2.0f * u.x;
     }

@@ -51,6 +51,8 @@ enum class PhaseKind {
     Rayleigh,          // 3 / (16 pi) * (1 + cos^2)
     Eddington,         // linear anisotropic: (1 + b cos) / (4 pi), b in [-1, 1]
     Legendre,          // sum_n a_n P_n(cos) / (4 pi), a_0 = 1, non-negative over [-1, 1]
+    HazyMie,           // (1/2 + 9/2 ((1 + cos) / 2)^8) / (4 pi)    (Nishita et al. 1987)
+    MurkyMie,          // (1/2 + 33/2 ((1 + cos) / 2)^32) / (4 pi)
 };
 
 struct PhaseFunction {
@@ -65,6 +67,10 @@ struct PhaseFunction {
 
 const char* toString(PhaseKind kind);
 
+// The monomial coefficients c_k of sum_n a[n] P_n(mu) = sum_k c_k mu^k (Eq. 13 of the Pegoraro paper (003) without its
+// 1 / (4 pi)), so that Legendre-form phase functions and light distributions become polynomials in the cosine.
+std::vector<double> legendreToMonomial(const std::vector<double>& a);
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Media. Extinction coefficients add where media overlap.
 
@@ -75,9 +81,9 @@ enum class MediumShape {
 };
 
 struct OrientedBox {
-    Vec3 centre{0.0};   // m
-    Vec3 size{1.0};     // m, full edge lengths, each > 0
-    Vec3 rotate{0.0};   // degrees, Euler XYZ like Transform::rotate
+    Vec3 centre{0.0};  // m
+    Vec3 size{1.0};    // m, full edge lengths, each > 0
+    Vec3 rotate{0.0};  // degrees, Euler XYZ like Transform::rotate
 
     glm::dmat3 worldFromBoxRotation() const;
 };
@@ -90,13 +96,13 @@ struct HalfSpace {
 };
 
 struct HomogeneousMedium {
-    std::string name;                  // unique among media
-    Rgb sigma_s{0.1};                  // 1/m, scattering coefficient, >= 0
-    Rgb sigma_a{0.0};                  // 1/m, absorption coefficient, >= 0
+    std::string name;  // unique among media
+    Rgb sigma_s{0.1};  // 1/m, scattering coefficient, >= 0
+    Rgb sigma_a{0.0};  // 1/m, absorption coefficient, >= 0
     PhaseFunction phase;
     MediumShape shape = MediumShape::Infinite;
-    OrientedBox box;                   // when shape == Box
-    std::vector<HalfSpace> planes;     // when shape == ConvexPolyhedron: at least 4, bounded, non-empty
+    OrientedBox box;                // when shape == Box
+    std::vector<HalfSpace> planes;  // when shape == ConvexPolyhedron: at least 4, bounded, non-empty
 
     Rgb sigma_t() const { return sigma_s + sigma_a; }
 };
@@ -106,8 +112,8 @@ struct HomogeneousMedium {
 //   sigma_t(x) = medium.extinction * extinctionMultiplier * exp(-50 |x - centre|^2 / u^2),  u = scale * falloff,
 // (Eq. 9 of the thesis, written with the distance to the centre), and zero outside.
 struct Particle {
-    Vec3 centre{0.0};                // m
-    double scale = 1.0;              // m, centre-to-vertex distance, > 0
+    Vec3 centre{0.0};                            // m
+    double scale = 1.0;                          // m, centre-to-vertex distance, > 0
     glm::dquat orientation{1.0, 0.0, 0.0, 0.0};  // unit quaternion (w, x, y, z)
     double extinctionMultiplier = 1.0;           // unitless, >= 0
     double falloff = 1.6;                        // unitless f, > 0; u = scale * f
@@ -115,21 +121,21 @@ struct Particle {
 
 // Deterministic particle placement, so that projects need not list thousands of particles.
 struct ParticleGenerator {
-    int count = 0;                   // number of particles, [0, 1'000'000]
+    int count = 0;  // number of particles, [0, 1'000'000]
     std::uint64_t seed = 1;
-    OrientedBox region;              // centres are uniform in this box
-    double scale = 0.25;             // m, every particle's scale
-    double falloff = 1.6;            // every particle's falloff f
-    double multiplierMin = 5.0;      // extinction multipliers are uniform in [min, max] (thesis: [5, 10])
+    OrientedBox region;          // centres are uniform in this box
+    double scale = 0.25;         // m, every particle's scale
+    double falloff = 1.6;        // every particle's falloff f
+    double multiplierMin = 5.0;  // extinction multipliers are uniform in [min, max] (thesis: [5, 10])
     double multiplierMax = 10.0;
 };
 
 struct ParticleMedium {
-    std::string name;                  // unique among media
-    double extinction = 1.0;           // 1/m, base extinction sigma, >= 0
-    Rgb albedo{0.8};                   // single-scattering albedo rho, each in [0, 1]
+    std::string name;         // unique among media
+    double extinction = 1.0;  // 1/m, base extinction sigma, >= 0
+    Rgb albedo{0.8};          // single-scattering albedo rho, each in [0, 1]
     PhaseFunction phase;
-    std::vector<Particle> particles;   // explicit particles ...
+    std::vector<Particle> particles;             // explicit particles ...
     std::optional<ParticleGenerator> generator;  // ... and/or generated ones (appended after the explicit ones)
 
     // Explicit particles followed by the generated ones.
@@ -140,13 +146,15 @@ struct ParticleMedium {
 // Lights. Lights are not seen directly by the camera (docs/conventions.md).
 
 // Angular distribution of a point light about `axis`, as a polynomial in mu = cos(angle to axis):
-//   I(mu) = intensity * sum_k coefficients[k] * mu^k.  Must be >= 0 for every mu in [-1, 1].
+//   I(mu) = intensity * sum_k coefficients[k] * mu^k         (Polynomial), or
+//   I(mu) = intensity * sum_k coefficients[k] * P_k(mu)      (Legendre, P_k the Legendre polynomials).
+// Must be >= 0 for every mu in [-1, 1].
 struct AngularDistribution {
-    enum class Kind { Isotropic, Spot, Polynomial };
+    enum class Kind { Isotropic, Spot, Polynomial, Legendre };
     Kind kind = Kind::Isotropic;
     Vec3 axis{0.0, -1.0, 0.0};         // direction of the lobe, normalised when loaded
     double spotExponent = 1.0;         // Spot: ((1 + mu) / 2)^n, n in [0, 256]
-    std::vector<double> coefficients;  // Polynomial: c_0 .. c_{N-1}, N <= 32
+    std::vector<double> coefficients;  // Polynomial or Legendre: c_0 .. c_{N-1}, N <= 32
 
     // The polynomial coefficients for every kind (the spot preset expanded with the binomial theorem).
     std::vector<double> polynomial() const;
@@ -164,17 +172,17 @@ struct PointLight {
 // fills all space. Its radiance arrives from infinity, so it is attenuated by every medium along the way.
 struct DirectionalLight {
     std::string name;
-    Vec3 direction{0.0, -1.0, 0.0};   // the direction light travels, normalised when loaded
-    Rgb irradiance{1.0};              // W/m^2, >= 0, on a plane perpendicular to direction
-    std::vector<Vec3> gobo;           // optional convex planar aperture polygon, m; empty for none
+    Vec3 direction{0.0, -1.0, 0.0};  // the direction light travels, normalised when loaded
+    Rgb irradiance{1.0};             // W/m^2, >= 0, on a plane perpendicular to direction
+    std::vector<Vec3> gobo;          // optional convex planar aperture polygon, m; empty for none
 };
 
 // A planar convex polygon that emits `radiance` from its front side (counter-clockwise vertices seen from the front,
 // i.e. normal = right-hand rule), or from both sides when twoSided.
 struct AreaLight {
     std::string name;
-    std::vector<Vec3> vertices;   // m, >= 3, planar, convex, non-zero area
-    Rgb radiance{1.0};            // W/(m^2 sr), >= 0
+    std::vector<Vec3> vertices;  // m, >= 3, planar, convex, non-zero area
+    Rgb radiance{1.0};           // W/(m^2 sr), >= 0
     bool twoSided = false;
 };
 
@@ -185,21 +193,21 @@ struct Material {
     enum class Kind { Diffuse, GGX };
     std::string name;
     Kind kind = Kind::Diffuse;
-    Rgb albedo{0.5};             // Diffuse: Lambertian reflectance, each in [0, 1]
-    Rgb f0{0.04};                // GGX: Fresnel reflectance at normal incidence (Schlick), each in [0, 1]
-    double alphaX = 0.3;         // GGX: roughness (width) along the tangent, [1e-3, 1]
-    double alphaY = 0.3;         // GGX: roughness along the bitangent, [1e-3, 1]; equal to alphaX when isotropic
+    Rgb albedo{0.5};      // Diffuse: Lambertian reflectance, each in [0, 1]
+    Rgb f0{0.04};         // GGX: Fresnel reflectance at normal incidence (Schlick), each in [0, 1]
+    double alphaX = 0.3;  // GGX: roughness (width) along the tangent, [1e-3, 1]
+    double alphaY = 0.3;  // GGX: roughness along the bitangent, [1e-3, 1]; equal to alphaX when isotropic
 };
 
 struct Mesh {
     enum class Source { Plane, Box, Sphere, Obj };
     std::string name;
     Source source = Source::Plane;
-    std::string file;            // Obj: path, relative to the project file's folder
-    int subdivisions = 32;       // Sphere: segments around the equator, [4, 1024]
+    std::string file;       // Obj: path, relative to the project file's folder
+    int subdivisions = 32;  // Sphere: segments around the equator, [4, 1024]
     Transform transform;
-    std::string material;        // name of a material in Scene::materials
-    Vec3 tangent{1.0, 0.0, 0.0}; // world direction projected onto the surface for anisotropic GGX
+    std::string material;         // name of a material in Scene::materials
+    Vec3 tangent{1.0, 0.0, 0.0};  // world direction projected onto the surface for anisotropic GGX
 };
 
 // Geometry of a mesh in world space, ready to render.
