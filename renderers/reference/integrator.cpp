@@ -1,5 +1,7 @@
 #include "reference/integrator.h"
 
+#include "src/shader_params.h"
+
 #include "tyndall/error.h"
 #include "tyndall/geometry.h"
 
@@ -83,52 +85,6 @@ float fanSolidAngles(const PreparedAreaLight& light, const vec3& x, std::vector<
 // ---------------------------------------------------------------------------------------------------------------------
 // Scene preparation
 
-PhaseParams toPhaseParams(const PhaseFunction& phase) {
-    PhaseParams p{};
-    p.g = float(phase.g);
-    p.a = float(phase.a);
-    p.b = float(phase.b);
-    switch (phase.kind) {
-        case PhaseKind::Isotropic:
-            p.kind = shader::kPhaseIsotropic;
-            break;
-        case PhaseKind::HenyeyGreenstein:
-            p.kind = shader::kPhaseHenyeyGreenstein;
-            break;
-        case PhaseKind::IsoHgMix:
-            p.kind = shader::kPhaseIsoHgMix;
-            break;
-        case PhaseKind::Rayleigh:
-            p.kind = shader::kPhaseRayleigh;
-            break;
-        case PhaseKind::Eddington:
-            p.kind = shader::kPhaseEddington;
-            break;
-        case PhaseKind::HazyMie:
-            p.kind = shader::kPhaseHazyMie;
-            break;
-        case PhaseKind::MurkyMie:
-            p.kind = shader::kPhaseMurkyMie;
-            break;
-        case PhaseKind::Legendre:
-            p.kind = shader::kPhaseLegendre;
-            TY_CHECK(phase.legendre.size() <= size_t(shader::kMaxLegendreTerms), "too many Legendre terms");
-            p.terms = int(phase.legendre.size());
-            for (size_t i = 0; i < phase.legendre.size(); ++i)
-                p.legendre[i] = float(phase.legendre[i]);
-            break;
-    }
-    return p;
-}
-
-void RenderScene::cameraRay(float px, float py, vec3& origin, vec3& dir) const {
-    float aspect = float(width) / float(height);
-    float x = (2.0f * px / float(width) - 1.0f) * tanHalfFovY * aspect;
-    float y = (1.0f - 2.0f * py / float(height)) * tanHalfFovY;
-    origin = cameraPosition;
-    dir = glm::normalize(cameraForward + x * cameraRight + y * cameraUp);
-}
-
 std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string& projectDir) {
     auto rs = std::make_unique<RenderScene>();
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
@@ -139,14 +95,7 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
 
     // Camera
     const Camera& cam = scene.camera;
-    Vec3 forward = glm::normalize(cam.target - cam.position);
-    Vec3 right = glm::normalize(glm::cross(forward, cam.up));
-    Vec3 up = glm::cross(right, forward);
-    rs->cameraPosition = toVec3(cam.position);
-    rs->cameraForward = toVec3(forward);
-    rs->cameraRight = toVec3(right);
-    rs->cameraUp = toVec3(up);
-    rs->tanHalfFovY = float(std::tan(glm::radians(cam.fovY) * 0.5));
+    rs->camera = toCameraParams(cam);
     rs->width = cam.width;
     rs->height = cam.height;
     grow(cam.position);
@@ -250,13 +199,7 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
 
     // Surfaces
     for (const Material& m : scene.materials) {
-        MaterialParams mp{};
-        mp.kind = m.kind == Material::Kind::Diffuse ? shader::kMaterialDiffuse : shader::kMaterialGgx;
-        mp.albedo = toVec3(m.albedo);
-        mp.f0 = toVec3(m.f0);
-        mp.alphaX = float(m.alphaX);
-        mp.alphaY = float(m.alphaY);
-        rs->materials.push_back(mp);
+        rs->materials.push_back(toMaterialParams(m));
     }
     std::vector<TriangleGeometry> geometry;
     for (size_t i = 0; i < scene.meshes.size(); ++i) {

@@ -6,6 +6,7 @@
 #include "reference/embree_scene.h"
 
 #include "shared/bsdf.h"
+#include "shared/camera.h"
 #include "shared/phase.h"
 #include "shared/rng.h"
 #include "tyndall/scene.h"
@@ -71,8 +72,7 @@ struct PreparedMesh {
 
 struct RenderScene {
     // camera
-    vec3 cameraPosition{0.0f}, cameraForward{0.0f, 0.0f, -1.0f}, cameraRight{1.0f, 0.0f, 0.0f}, cameraUp{0.0f, 1.0f, 0.0f};
-    float tanHalfFovY = 0.5f;
+    shader::CameraParams camera{};
     int width = 1, height = 1;
 
     std::vector<PreparedMedium> media;
@@ -87,15 +87,11 @@ struct RenderScene {
     std::unique_ptr<EmbreeScene> embree;
     float sceneScale = 1.0f;  // m, the size of the scene's bounds, for ray offsets
 
-    // The camera ray through image position (px, py) in pixels from the top-left.
-    void cameraRay(float px, float py, vec3& origin, vec3& dir) const;
 };
 
 // Throws InputError for scene content that cannot be prepared (e.g. a missing OBJ file).
 std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string& projectDir);
 
-// Conversions shared with tests.
-PhaseParams toPhaseParams(const PhaseFunction& phase);
 
 // ---------------------------------------------------------------------------------------------------------------------
 

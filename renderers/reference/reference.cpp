@@ -144,7 +144,7 @@ RenderResult ReferenceTechnique::render(const RenderRequest& request, const Rend
                             reference::SampleStream samples(shader::hashCombine(pixelSeed, stream), uint32_t(s) >> 1u);
                             glm::vec2 jitter = samples.next2D();
                             glm::vec3 origin, dir;
-                            scene->cameraRay(float(x) + jitter.x, float(y) + jitter.y, origin, dir);
+                            shader::cameraRay(scene->camera, float(x) + jitter.x, float(y) + jitter.y, origin, dir);
                             glm::vec3 L = integrator.radiance(origin, dir, samples);
                             if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
                                 nonFinite.fetch_add(1, std::memory_order_relaxed);

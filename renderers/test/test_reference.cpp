@@ -4,6 +4,7 @@
 // within a batch are stratified and not independent.
 #include "reference/integrator.h"
 #include "reference/reference.h"
+#include "src/shader_params.h"
 
 #include "tyndall/error.h"
 #include "tyndall/geometry.h"
@@ -129,7 +130,7 @@ PhaseFunction phaseOfKind(int i) {
 constexpr int kPhaseKinds = 7;
 
 double phaseValue(const PhaseFunction& p, double mu) {
-    return double(shader::phaseEval(reference::toPhaseParams(p), float(mu)));
+    return double(shader::phaseEval(toPhaseParams(p), float(mu)));
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
