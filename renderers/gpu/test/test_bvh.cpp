@@ -279,19 +279,17 @@ TEST(Bvh, ClosestHitAgreesWithEmbreeOnBundledProjects) {
     }
 }
 
-// One ray per invocation through both traversals; rays are (origin, tMax) and (dir, 0).
+// One ray per invocation through both traversals; rays are (origin, tMax) and (dir, 0). Compiled as if it were a file
+// of renderers/gpu/test, where its relative include lies.
 constexpr const char* kTraceShader = R"(#version 460
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bvh.h"
+#include "bvh_struct_buffers.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
-layout(std430, binding = 1) readonly buffer BvhTriangles { BvhTriangle bvhTriangles[]; };
 layout(std430, binding = 2) readonly buffer Rays { vec4 rays[]; };
 layout(std430, binding = 3) writeonly buffer Hits { vec4 hits[]; };     // t, u, v, id bits
 layout(std430, binding = 4) writeonly buffer Flags { uint flags[]; };  // 1: closest hit found, 2: occluded
 layout(push_constant) uniform Push { uint count; } push;
-BvhNode bvhNode(int i) { return bvhNodes[i]; }
-BvhTriangle bvhTriangle(int i) { return bvhTriangles[i]; }
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= push.count) return;
@@ -309,7 +307,9 @@ void main() {
 class BvhGpu : public test::GpuTest {};
 
 TEST_F(BvhGpu, GlslTraversalAgreesWithCpp) {
-    CompileResult compiled = compileGlslSource(kTraceShader, "inline/bvh_trace.comp.glsl", ShaderStage::Compute);
+    CompileResult compiled =
+        compileGlslSource(kTraceShader, std::string(TYNDALL_SOURCE_DIR) + "/renderers/gpu/test/bvh_trace.comp.glsl",
+                          ShaderStage::Compute);
     ASSERT_TRUE(compiled.ok) << compiled.log;
     // Every bundled project's geometry, 2^17 rays each, against the C++ side of the same code and against Embree.
     for (const BundledScene& scene : bundledScenes()) {
