@@ -5,6 +5,7 @@
 
 #include "bundled_scenes.h"
 #include "gpu_test.h"
+#include "visibility_helpers.h"
 
 #include "shared/rng.h"
 #include "shared/sampling.h"
@@ -13,7 +14,6 @@
 #include "tyndall/gpu/shader_compiler.h"
 #include "tyndall/project.h"
 
-#include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -33,118 +33,9 @@ using glm::vec3;
 
 using test::BundledScene;
 using test::bundledScenes;
-
-// The same triangles in Embree, configured as the reference configures them (robust, high quality), with the
-// triangle ids of buildBvh (meshes concatenated) recovered from geometry and primitive ids.
-class EmbreeTriangles {
-public:
-    explicit EmbreeTriangles(const std::vector<TriangleMesh>& meshes) {
-        device_ = rtcNewDevice("threads=1");
-        scene_ = rtcNewScene(device_);
-        rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-        rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-        std::uint32_t first = 0;
-        for (unsigned m = 0; m < meshes.size(); ++m) {
-            const TriangleMesh& mesh = meshes[m];
-            RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-            void* positions = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                      sizeof(vec3), mesh.positions.size());
-            std::memcpy(positions, mesh.positions.data(), mesh.positions.size() * sizeof(vec3));
-            void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(uvec3),
-                                                    mesh.triangles.size());
-            std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * sizeof(uvec3));
-            rtcCommitGeometry(geometry);
-            rtcAttachGeometryByID(scene_, geometry, m);
-            rtcReleaseGeometry(geometry);
-            firstId_.push_back(first);
-            first += std::uint32_t(mesh.triangles.size());
-        }
-        rtcCommitScene(scene_);
-        EXPECT_EQ(rtcGetDeviceError(device_), RTC_ERROR_NONE);
-    }
-    ~EmbreeTriangles() {
-        rtcReleaseScene(scene_);
-        rtcReleaseDevice(device_);
-    }
-    EmbreeTriangles(const EmbreeTriangles&) = delete;
-    EmbreeTriangles& operator=(const EmbreeTriangles&) = delete;
-
-    bool occluded(const vec3& origin, const vec3& dir, float tMax) const {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        RTCRay ray = makeRay(origin, dir, tMax);
-        rtcOccluded1(scene_, &context, &ray);
-        return ray.tfar < 0.0f;
-    }
-
-    bool intersect(const vec3& origin, const vec3& dir, float tMax, shader::BvhHit& hit) const {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        RTCRayHit rayHit{};
-        rayHit.ray = makeRay(origin, dir, tMax);
-        rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene_, &context, &rayHit);
-        if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-        hit.t = rayHit.ray.tfar;
-        hit.id = firstId_[rayHit.hit.geomID] + rayHit.hit.primID;
-        hit.uv = vec2(rayHit.hit.u, rayHit.hit.v);
-        return true;
-    }
-
-private:
-    static RTCRay makeRay(const vec3& origin, const vec3& dir, float tMax) {
-        RTCRay ray{};
-        ray.org_x = origin.x;
-        ray.org_y = origin.y;
-        ray.org_z = origin.z;
-        ray.dir_x = dir.x;
-        ray.dir_y = dir.y;
-        ray.dir_z = dir.z;
-        ray.tnear = 0.0f;
-        ray.tfar = tMax;
-        ray.mask = 0xffffffffu;
-        return ray;
-    }
-
-    RTCDevice device_ = nullptr;
-    RTCScene scene_ = nullptr;
-    std::vector<std::uint32_t> firstId_;
-};
-
-// Random rays between random points of the scene's bounds, enlarged by 10 % on every side so that rays also cross
-// the surfaces that lie on the bounds (ground planes).
-struct RandomRays {
-    explicit RandomRays(const std::vector<TriangleMesh>& meshes, std::uint32_t seed)
-        : rng(shader::pcg32Seed(seed, 0u)) {
-        for (const TriangleMesh& mesh : meshes)
-            for (const vec3& p : mesh.positions) {
-                lo = glm::min(lo, p);
-                hi = glm::max(hi, p);
-            }
-        vec3 margin = 0.1f * (hi - lo);
-        lo -= margin;
-        hi += margin;
-    }
-    vec3 point() {
-        vec3 u(shader::pcg32NextFloat(rng), shader::pcg32NextFloat(rng), shader::pcg32NextFloat(rng));
-        return lo + u * (hi - lo);
-    }
-    // A unit direction and the distance to the end point.
-    void next(vec3& origin, vec3& dir, float& tMax) {
-        origin = point();
-        vec3 d = point() - origin;
-        tMax = glm::length(d);
-        dir = d / tMax;
-    }
-
-    shader::Pcg32 rng;
-    vec3 lo{1e30f}, hi{-1e30f};
-};
-
-// How far a hit is from its triangle's nearest edge, in barycentric units.
-float edgeDistance(const vec2& uv) {
-    return std::min({uv.x, uv.y, 1.0f - uv.x - uv.y});
-}
+using test::edgeDistance;
+using test::EmbreeTriangles;
+using test::RandomRays;
 
 constexpr int kRays = 100000;
 // Watertight Embree and Moeller-Trumbore may disagree only for hits within this of an edge, and on few rays.
@@ -388,19 +279,17 @@ TEST(Bvh, ClosestHitAgreesWithEmbreeOnBundledProjects) {
     }
 }
 
-// One ray per invocation through both traversals; rays are (origin, tMax) and (dir, 0).
+// One ray per invocation through both traversals; rays are (origin, tMax) and (dir, 0). Compiled as if it were a file
+// of renderers/gpu/test, where its relative include lies.
 constexpr const char* kTraceShader = R"(#version 460
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bvh.h"
+#include "bvh_struct_buffers.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
-layout(std430, binding = 1) readonly buffer BvhTriangles { BvhTriangle bvhTriangles[]; };
 layout(std430, binding = 2) readonly buffer Rays { vec4 rays[]; };
 layout(std430, binding = 3) writeonly buffer Hits { vec4 hits[]; };     // t, u, v, id bits
 layout(std430, binding = 4) writeonly buffer Flags { uint flags[]; };  // 1: closest hit found, 2: occluded
 layout(push_constant) uniform Push { uint count; } push;
-BvhNode bvhNode(int i) { return bvhNodes[i]; }
-BvhTriangle bvhTriangle(int i) { return bvhTriangles[i]; }
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= push.count) return;
@@ -418,7 +307,9 @@ void main() {
 class BvhGpu : public test::GpuTest {};
 
 TEST_F(BvhGpu, GlslTraversalAgreesWithCpp) {
-    CompileResult compiled = compileGlslSource(kTraceShader, "inline/bvh_trace.comp.glsl", ShaderStage::Compute);
+    CompileResult compiled =
+        compileGlslSource(kTraceShader, std::string(TYNDALL_SOURCE_DIR) + "/renderers/gpu/test/bvh_trace.comp.glsl",
+                          ShaderStage::Compute);
     ASSERT_TRUE(compiled.ok) << compiled.log;
     // Every bundled project's geometry, 2^17 rays each, against the C++ side of the same code and against Embree.
     for (const BundledScene& scene : bundledScenes()) {

@@ -5,19 +5,17 @@
 
 #include "bundled_scenes.h"
 #include "gpu_test.h"
+#include "visibility_helpers.h"
 
-#include "shared/rng.h"
 #include "tyndall/geometry.h"
 #include "tyndall/gpu/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
 #include "tyndall/project.h"
 
-#include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -32,86 +30,8 @@ using glm::vec4;
 
 using test::BundledScene;
 using test::bundledScenes;
-
-// The same triangles in Embree, configured as the reference configures them (robust, high quality).
-class EmbreeOcclusion {
-public:
-    explicit EmbreeOcclusion(const std::vector<TriangleMesh>& meshes) {
-        device_ = rtcNewDevice("threads=1");
-        scene_ = rtcNewScene(device_);
-        rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-        rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-        for (const TriangleMesh& mesh : meshes) {
-            RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-            void* positions = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                      sizeof(vec3), mesh.positions.size());
-            std::memcpy(positions, mesh.positions.data(), mesh.positions.size() * sizeof(vec3));
-            void* indices = rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(uvec3),
-                                                    mesh.triangles.size());
-            std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * sizeof(uvec3));
-            rtcCommitGeometry(geometry);
-            rtcAttachGeometry(scene_, geometry);
-            rtcReleaseGeometry(geometry);
-        }
-        rtcCommitScene(scene_);
-        EXPECT_EQ(rtcGetDeviceError(device_), RTC_ERROR_NONE);
-    }
-    ~EmbreeOcclusion() {
-        rtcReleaseScene(scene_);
-        rtcReleaseDevice(device_);
-    }
-    EmbreeOcclusion(const EmbreeOcclusion&) = delete;
-    EmbreeOcclusion& operator=(const EmbreeOcclusion&) = delete;
-
-    bool occluded(const vec4& originTMax, const vec4& direction) const {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        RTCRay ray{};
-        ray.org_x = originTMax.x;
-        ray.org_y = originTMax.y;
-        ray.org_z = originTMax.z;
-        ray.dir_x = direction.x;
-        ray.dir_y = direction.y;
-        ray.dir_z = direction.z;
-        ray.tnear = 0.0f;
-        ray.tfar = originTMax.w;
-        ray.mask = 0xffffffffu;
-        rtcOccluded1(scene_, &context, &ray);
-        return ray.tfar < 0.0f;
-    }
-
-private:
-    RTCDevice device_ = nullptr;
-    RTCScene scene_ = nullptr;
-};
-
-// Rays between random points of the scene's bounds enlarged by 10 % on every side, as (origin, tMax), (dir, 0).
-std::vector<vec4> randomRays(const std::vector<TriangleMesh>& meshes, std::uint32_t seed, int count) {
-    vec3 lo(1e30f), hi(-1e30f);
-    for (const TriangleMesh& mesh : meshes)
-        for (const vec3& p : mesh.positions) {
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
-        }
-    vec3 margin = 0.1f * (hi - lo);
-    lo -= margin;
-    hi += margin;
-    shader::Pcg32 rng = shader::pcg32Seed(seed, 0u);
-    auto point = [&] {
-        vec3 u(shader::pcg32NextFloat(rng), shader::pcg32NextFloat(rng), shader::pcg32NextFloat(rng));
-        return lo + u * (hi - lo);
-    };
-    std::vector<vec4> rays;
-    rays.reserve(2 * std::size_t(count));
-    for (int i = 0; i < count; ++i) {
-        vec3 origin = point();
-        vec3 d = point() - origin;
-        float tMax = glm::length(d);
-        rays.push_back(vec4(origin, tMax));
-        rays.push_back(vec4(d / tMax, 0.0f));
-    }
-    return rays;
-}
+using test::EmbreeTriangles;
+using test::randomRays;
 
 // One triangle in the plane z = 0: (0, 0), (1, 0), (0, 1).
 std::vector<TriangleMesh> singleTriangle() {
@@ -174,7 +94,7 @@ TEST_F(VisibilityTest, AgreesWithEmbreeOnBundledProjects) {
     for (const BundledScene& scene : bundledScenes()) {
         SCOPED_TRACE(scene.name);
         Visibility visibility(context(), scene.meshes);
-        EmbreeOcclusion embree(scene.meshes);
+        EmbreeTriangles embree(scene.meshes);
         std::vector<vec4> rays = randomRays(scene.meshes, 21u, kRays);
         auto start = std::chrono::steady_clock::now();
         std::vector<std::uint32_t> ours = visibility.occluded(rays);
@@ -183,7 +103,8 @@ TEST_F(VisibilityTest, AgreesWithEmbreeOnBundledProjects) {
         int occludedCount = 0, disagreements = 0;
         for (int i = 0; i < kRays; ++i) {
             ASSERT_LE(ours[std::size_t(i)], 1u);
-            bool theirs = embree.occluded(rays[2 * std::size_t(i)], rays[2 * std::size_t(i) + 1]);
+            const vec4& originTMax = rays[2 * std::size_t(i)];
+            bool theirs = embree.occluded(vec3(originTMax), vec3(rays[2 * std::size_t(i) + 1]), originTMax.w);
             occludedCount += theirs ? 1 : 0;
             disagreements += (ours[std::size_t(i)] == 1u) != theirs ? 1 : 0;
         }
