@@ -22,11 +22,21 @@
 TY_BEGIN
 
 // The real functions complex_impl.h needs, overloaded by type so that one source serves float and double.
-TY_FUNC float realExp(float x) { return exp(x); }
-TY_FUNC float realLog(float x) { return log(x); }
-TY_FUNC float realSin(float x) { return sin(x); }
-TY_FUNC float realCos(float x) { return cos(x); }
-TY_FUNC bool realSignBit(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
+TY_FUNC float realExp(float x) {
+    return exp(x);
+}
+TY_FUNC float realLog(float x) {
+    return log(x);
+}
+TY_FUNC float realSin(float x) {
+    return sin(x);
+}
+TY_FUNC float realCos(float x) {
+    return cos(x);
+}
+TY_FUNC bool realSignBit(float x) {
+    return (floatBitsToUint(x) >> 31) != 0u;
+}
 // GLSL leaves the sign of atan(+-0, x < 0) open; the negative real axis follows the sign bit of the zero, as in C.
 TY_FUNC float realAtan2(float y, float x) {
     if (y == 0.0f && x < 0.0f) return realSignBit(y) ? -kPi : kPi;
@@ -34,12 +44,24 @@ TY_FUNC float realAtan2(float y, float x) {
 }
 
 #ifdef TY_HAS_DOUBLE
-TY_FUNC double realExp(double x) { return dExp(x); }
-TY_FUNC double realLog(double x) { return dLog(x); }
-TY_FUNC double realSin(double x) { return dSin(x); }
-TY_FUNC double realCos(double x) { return dCos(x); }
-TY_FUNC bool realSignBit(double x) { return dSignBit(x); }
-TY_FUNC double realAtan2(double y, double x) { return dAtan2(y, x); }
+TY_FUNC double realExp(double x) {
+    return dExp(x);
+}
+TY_FUNC double realLog(double x) {
+    return dLog(x);
+}
+TY_FUNC double realSin(double x) {
+    return dSin(x);
+}
+TY_FUNC double realCos(double x) {
+    return dCos(x);
+}
+TY_FUNC bool realSignBit(double x) {
+    return dSignBit(x);
+}
+TY_FUNC double realAtan2(double y, double x) {
+    return dAtan2(y, x);
+}
 #endif
 
 TY_END

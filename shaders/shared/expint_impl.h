@@ -23,8 +23,8 @@ TY_FUNC TY_R2 expintEnSeriesLog(int n, TY_R2 z, TY_R2 logZ) {
     TY_R tolerance2 = TY_EXPINT_TOLERANCE * TY_EXPINT_TOLERANCE;
     TY_R psi = -TY_EXPINT_GAMMA;
     TY_R2 term = TY_R2(TY_R(1.0f), TY_R(0.0f));  // (-z)^k / k!
-    TY_R2 sum = TY_R2(TY_R(0.0f));                 // over k != n - 1
-    TY_R2 logPart = TY_R2(TY_R(0.0f));             // the k = n - 1 term
+    TY_R2 sum = TY_R2(TY_R(0.0f));               // over k != n - 1
+    TY_R2 logPart = TY_R2(TY_R(0.0f));           // the k = n - 1 term
     for (int k = 0; k < TY_EXPINT_MAX_TERMS; ++k) {
         if (k == n - 1) {
             logPart = cMul(term, TY_R2(psi - logZ.x, -logZ.y));
@@ -39,7 +39,9 @@ TY_FUNC TY_R2 expintEnSeriesLog(int n, TY_R2 z, TY_R2 logZ) {
     return logPart - sum;
 }
 
-TY_FUNC TY_R2 expintEnSeries(int n, TY_R2 z) { return expintEnSeriesLog(n, z, cLog(z)); }
+TY_FUNC TY_R2 expintEnSeries(int n, TY_R2 z) {
+    return expintEnSeriesLog(n, z, cLog(z));
+}
 
 // The depth of the continued fraction below that reaches the tolerance: an upper bound on the depth needed, fitted
 // to the depths measured in extended precision (docs/expint.md), with s = |z| + Re z = 2 (Re sqrt z)^2. For every n
@@ -144,8 +146,10 @@ TY_FUNC void expintEnScaledAll(int n, TY_R2 z, TY_OUT(TY_EXPINT_ORDERS) orders) 
     orders.value[pivot - 1] = expintEnScaled(pivot, z);
     TY_R2 one = TY_R2(TY_R(1.0f), TY_R(0.0f));
     TY_R2 invZ = cInv(z);
-    for (int j = pivot - 1; j >= 1; --j) orders.value[j - 1] = cMul(one - TY_R(j) * orders.value[j], invZ);
-    for (int j = pivot; j < n; ++j) orders.value[j] = (one - cMul(z, orders.value[j - 1])) / TY_R(j);
+    for (int j = pivot - 1; j >= 1; --j)
+        orders.value[j - 1] = cMul(one - TY_R(j) * orders.value[j], invZ);
+    for (int j = pivot; j < n; ++j)
+        orders.value[j] = (one - cMul(z, orders.value[j - 1])) / TY_R(j);
 }
 
 TY_END
