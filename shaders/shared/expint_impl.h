@@ -139,17 +139,32 @@ TY_FUNC TY_R2 expintEnScaled(int n, TY_R2 z) {
     return cMul(cExp(z), expintEnSeries(n, z));
 }
 
+// The three-term recurrence n E_{n+1}(z) = e^(-z) - z E_n(z) (A&S 5.1.14), for g_n = e^z E_n(z):
+//   upwards   g_{j+1} = (1 - z g_j) / j,        which multiplies an error in g_j by |z| / j,
+//   downwards g_j = (1 - j g_{j+1}) / z,        which multiplies an error in g_{j+1} by j / |z|.
+// So upwards is stable for j >= |z| and downwards for j < |z|. expintRecurrencePivot is the order ceil(|z|) (within
+// 1 .. n) from which both directions are stable: evaluate it with expintEnScaled and step away from it.
+TY_FUNC int expintRecurrencePivot(int n, TY_R2 z) {
+    return max(int(min(ceil(cAbs(z)), TY_R(n))), 1);
+}
+
+TY_FUNC TY_R2 expintEnScaledUp(int j, TY_R2 z, TY_R2 g) {
+    return (TY_R2(TY_R(1.0f), TY_R(0.0f)) - cMul(z, g)) / TY_R(j);
+}
+
+TY_FUNC TY_R2 expintEnScaledDown(int j, TY_R2 z, TY_R2 gNext) {
+    return cDiv(TY_R2(TY_R(1.0f), TY_R(0.0f)) - TY_R(j) * gNext, z);
+}
+
 // e^z E_j(z) for j = 1 .. n; see expint.h.
 TY_FUNC void expintEnScaledAll(int n, TY_R2 z, TY_OUT(TY_EXPINT_ORDERS) orders) {
     n = min(n, kExpintMaxOrder);
-    int pivot = clamp(int(ceil(cAbs(z))), 1, n);
+    int pivot = expintRecurrencePivot(n, z);
     orders.value[pivot - 1] = expintEnScaled(pivot, z);
-    TY_R2 one = TY_R2(TY_R(1.0f), TY_R(0.0f));
-    TY_R2 invZ = cInv(z);
     for (int j = pivot - 1; j >= 1; --j)
-        orders.value[j - 1] = cMul(one - TY_R(j) * orders.value[j], invZ);
+        orders.value[j - 1] = expintEnScaledDown(j, z, orders.value[j]);
     for (int j = pivot; j < n; ++j)
-        orders.value[j] = (one - cMul(z, orders.value[j - 1])) / TY_R(j);
+        orders.value[j] = expintEnScaledUp(j, z, orders.value[j - 1]);
 }
 
 TY_END
