@@ -182,6 +182,19 @@ void BM_EmbreeShadowRays(benchmark::State& state) {
 }
 BENCHMARK(BM_EmbreeShadowRays)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// Compiles a kernel; when it does not compile, or needs float64 the device lacks, skips the benchmark and returns no
+// code.
+std::vector<uint32_t> compileOrSkip(benchmark::State& state, const std::string& source, const char* name,
+                                    bool needsFloat64) {
+    if (needsFloat64 && !context().device().shaderFloat64) {
+        state.SkipWithError("the device has no float64");
+        return {};
+    }
+    CompileResult compiled = compileGlslSource(source, name, ShaderStage::Compute);
+    if (!compiled.ok) state.SkipWithError(compiled.log.c_str());
+    return compiled.ok ? compiled.spirv : std::vector<uint32_t>();
+}
+
 // The body of the kernel below: order n alone (mode 0), orders 1..n through expintEnScaledAll's array (mode 1) or
 // streamed from the recurrence pivot without an array (mode 2).
 const char* expintBody(int mode) {
@@ -221,15 +234,8 @@ void BM_GpuExpintEnScaled(benchmark::State& state) {
                          "    if (i >= push.count) return;\n"
                          "    REAL2 t = REAL2(ts[i]);\n" +
                          expintBody(mode) + "}\n";
-    if (isDouble && !context().device().shaderFloat64) {
-        state.SkipWithError("the device has no float64");
-        return;
-    }
-    CompileResult compiled = compileGlslSource(source, "expint.comp.glsl", ShaderStage::Compute);
-    if (!compiled.ok) {
-        state.SkipWithError(compiled.log.c_str());
-        return;
-    }
+    std::vector<uint32_t> spirv = compileOrSkip(state, source, "expint.comp.glsl", isDouble);
+    if (spirv.empty()) return;
     std::vector<glm::vec2> ts(count);
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> logH(std::log(1e-4f), std::log(50.0f)), logV(std::log(1e-4f), std::log(1e4f));
@@ -239,7 +245,7 @@ void BM_GpuExpintEnScaled(benchmark::State& state) {
     }
     Buffer args(context(), count * sizeof(glm::vec2)), values(context(), count * sizeof(glm::vec2));
     args.upload(ts);
-    ComputeKernel kernel(context(), compiled.spirv, 2, 8, "expint");
+    ComputeKernel kernel(context(), spirv, 2, 8, "expint");
     const uint32_t push[2] = {count, uint32_t(order)};
     double gpuMs = 0.0;
     for (auto _ : state) {

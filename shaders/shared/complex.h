@@ -21,63 +21,40 @@
 
 TY_BEGIN
 
-// The real functions complex_impl.h needs, overloaded by type so that one source serves float and double.
-TY_FUNC float realExp(float x) {
-    return exp(x);
-}
-TY_FUNC float realLog(float x) {
-    return log(x);
-}
-TY_FUNC float realSin(float x) {
-    return sin(x);
-}
-TY_FUNC float realCos(float x) {
-    return cos(x);
-}
-TY_FUNC bool realSignBit(float x) {
+// Float versions of what double_math.h provides for double, where the GLSL built-in does not do.
+TY_FUNC bool floatSignBit(float x) {
     return (floatBitsToUint(x) >> 31) != 0u;
 }
+
 // GLSL leaves the sign of atan(+-0, x < 0) open; the negative real axis follows the sign bit of the zero, as in C.
-TY_FUNC float realAtan2(float y, float x) {
-    if (y == 0.0f && x < 0.0f) return realSignBit(y) ? -kPi : kPi;
+TY_FUNC float floatAtan2(float y, float x) {
+    if (y == 0.0f && x < 0.0f) return floatSignBit(y) ? -kPi : kPi;
     return atan(y, x);
 }
 
-#ifdef TY_HAS_DOUBLE
-TY_FUNC double realExp(double x) {
-    return dExp(x);
-}
-TY_FUNC double realLog(double x) {
-    return dLog(x);
-}
-TY_FUNC double realSin(double x) {
-    return dSin(x);
-}
-TY_FUNC double realCos(double x) {
-    return dCos(x);
-}
-TY_FUNC bool realSignBit(double x) {
-    return dSignBit(x);
-}
-TY_FUNC double realAtan2(double y, double x) {
-    return dAtan2(y, x);
-}
-#endif
-
 TY_END
 
+// complex_impl.h's parameters (it undefines them): the types and the real functions it builds on.
 #define TY_R float
 #define TY_R2 vec2
+#define TY_REAL_EXP exp
+#define TY_REAL_LOG log
+#define TY_REAL_SIN sin
+#define TY_REAL_COS cos
+#define TY_REAL_ATAN2 floatAtan2
+#define TY_REAL_SIGN_BIT floatSignBit
 #include "complex_impl.h"
-#undef TY_R
-#undef TY_R2
 
 #ifdef TY_HAS_DOUBLE
 #define TY_R double
 #define TY_R2 dvec2
+#define TY_REAL_EXP dExp
+#define TY_REAL_LOG dLog
+#define TY_REAL_SIN dSin
+#define TY_REAL_COS dCos
+#define TY_REAL_ATAN2 dAtan2
+#define TY_REAL_SIGN_BIT dSignBit
 #include "complex_impl.h"
-#undef TY_R
-#undef TY_R2
 #endif
 
 #endif  // TY_SHARED_COMPLEX_H

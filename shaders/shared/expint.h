@@ -71,20 +71,6 @@ TY_END
 #define TY_EXPINT_MAX_TERMS 200
 #define TY_EXPINT_MAX_EXP 88.0f
 #include "expint_impl.h"
-#undef TY_R
-#undef TY_R2
-#undef TY_EXPINT_ORDERS
-#undef TY_EXPINT_GAMMA
-#undef TY_EXPINT_PI
-#undef TY_EXPINT_TOLERANCE
-#undef TY_EXPINT_DEPTH_A
-#undef TY_EXPINT_DEPTH_B
-#undef TY_EXPINT_DEPTH_P
-#undef TY_EXPINT_DEPTH_Q
-#undef TY_EXPINT_MAX_DEPTH
-#undef TY_EXPINT_ASYMPTOTIC
-#undef TY_EXPINT_MAX_TERMS
-#undef TY_EXPINT_MAX_EXP
 
 // Double: tolerance 2^-53; the continued fraction where 128 steps suffice (|z| + Re z >= 1.88, and everywhere for
 // n >= 14), the power series elsewhere; E1's asymptotic series from |z| = 50.
@@ -104,20 +90,6 @@ TY_END
 #define TY_EXPINT_MAX_TERMS 400
 #define TY_EXPINT_MAX_EXP TY_DOUBLE(709.0)
 #include "expint_impl.h"
-#undef TY_R
-#undef TY_R2
-#undef TY_EXPINT_ORDERS
-#undef TY_EXPINT_GAMMA
-#undef TY_EXPINT_PI
-#undef TY_EXPINT_TOLERANCE
-#undef TY_EXPINT_DEPTH_A
-#undef TY_EXPINT_DEPTH_B
-#undef TY_EXPINT_DEPTH_P
-#undef TY_EXPINT_DEPTH_Q
-#undef TY_EXPINT_MAX_DEPTH
-#undef TY_EXPINT_ASYMPTOTIC
-#undef TY_EXPINT_MAX_TERMS
-#undef TY_EXPINT_MAX_EXP
 #endif
 
 #endif  // TY_SHARED_EXPINT_H

@@ -3,12 +3,14 @@
 //   TY_R, TY_R2                   the real type and the complex type (float, vec2 or double, dvec2);
 //   TY_EXPINT_ORDERS              the name of the struct that holds e^z E_j(z) for j = 1 .. kExpintMaxOrder;
 //   TY_EXPINT_GAMMA, TY_EXPINT_PI Euler's constant and pi in the real type (usable inside functions only);
-//   TY_EXPINT_TOLERANCE           where a series or continued fraction stops: the relative size of the last term;
-//   TY_EXPINT_PARABOLA            the boundary |z| + Re z = L between the series and the continued fraction;
+//   TY_EXPINT_TOLERANCE           where the power and asymptotic series stop: the relative size of the next term;
+//   TY_EXPINT_DEPTH_A, _B, _P, _Q the constants of the continued fraction's depth bound (expintCfDepth, in float);
+//   TY_EXPINT_MAX_DEPTH           the deepest continued fraction used; where more is needed the power series is;
 //   TY_EXPINT_ASYMPTOTIC          the radius beyond which E1 uses its asymptotic series near the negative axis;
-//   TY_EXPINT_MAX_TERMS           an upper bound on the iterations of every loop;
-//   TY_EXPINT_MAX_EXP             the largest x with exp(x) finite, rounded down to an integer.
-// Include expint.h, not this file. docs/expint.md explains the regions and the thresholds.
+//   TY_EXPINT_MAX_TERMS           an upper bound on the terms of the power and asymptotic series;
+//   TY_EXPINT_MAX_EXP             an integer x with exp(x) finite, below the overflow threshold.
+// It undefines them at its end. Include expint.h, not this file. docs/expint.md explains the regions and the
+// thresholds.
 
 TY_BEGIN
 
@@ -168,3 +170,18 @@ TY_FUNC void expintEnScaledAll(int n, TY_R2 z, TY_OUT(TY_EXPINT_ORDERS) orders) 
 }
 
 TY_END
+
+#undef TY_R
+#undef TY_R2
+#undef TY_EXPINT_ORDERS
+#undef TY_EXPINT_GAMMA
+#undef TY_EXPINT_PI
+#undef TY_EXPINT_TOLERANCE
+#undef TY_EXPINT_DEPTH_A
+#undef TY_EXPINT_DEPTH_B
+#undef TY_EXPINT_DEPTH_P
+#undef TY_EXPINT_DEPTH_Q
+#undef TY_EXPINT_MAX_DEPTH
+#undef TY_EXPINT_ASYMPTOTIC
+#undef TY_EXPINT_MAX_TERMS
+#undef TY_EXPINT_MAX_EXP
