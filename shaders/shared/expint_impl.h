@@ -57,7 +57,7 @@ TY_FUNC int expintCfDepth(int n, TY_R s) {
     return int(min(depth, float(TY_EXPINT_MAX_DEPTH))) + 1;
 }
 
-// e^z E_n(z) by the even part of the continued fraction A&S 5.1.22 (DLMF 8.19.17),
+// e^z E_n(z) by the even part of the continued fraction A&S 5.1.22 (DLMF 6.9.1 for n = 1; 8.9.2 with 8.19.1),
 //   e^z E_n(z) = 1 / (z + n - 1 n / (z + n + 2 - 2 (n + 1) / (z + n + 4 - ...))),
 // a_k = -k (n + k - 1), b_k = z + n + 2k, cut after `depth` steps and evaluated from the bottom up: one complex
 // division a step and a rounding error of a few ulps whatever the depth (forward evaluation, Lentz's method, gathers
@@ -96,7 +96,10 @@ TY_FUNC TY_R2 expintTimesExpMinus(TY_R2 g, TY_R2 z) {
 }
 
 // The branch term of E1 across the negative real axis: E1(-x +- i0) = -Ei(x) -+ i pi (A&S 5.1.7). Above the axis
-// (im > 0 or +0) -i pi, below (im < 0 or -0) +i pi.
+// (im > 0 or +0) -i pi, below (im < 0 or -0) +i pi. On the axis the asymptotic series sums to the real -Ei(x); off it
+// the true branch term switches on smoothly across the Stokes line (DLMF 8.20.3, 2.11(iii)), so the full step is off
+// by at most pi there, relative to |E1| ~ e^(-Re z) / |z| at most pi |z| e^(Re z) < 1e-18 (double) and 1e-9 (float)
+// where expintE1 uses it.
 TY_FUNC TY_R2 expintE1BranchTerm(TY_R2 z) {
     TY_R pi = TY_EXPINT_PI;
     return TY_R2(TY_R(0.0f), realSignBit(z.y) ? pi : -pi);
@@ -111,7 +114,8 @@ TY_FUNC TY_R2 expintE1(TY_R2 z) {
     return expintTimesExpMinus(expintE1ScaledAsymptotic(z), z) + expintE1BranchTerm(z);
 }
 
-// Ei(z) = -E1(-z) + i pi sign(Im z) (A&S 5.1.7, DLMF 6.2.6 with 6.2.3); on the real axis the real Ei; see expint.h.
+// Ei(z) = -E1(-z) + i pi sign(Im z): both are gamma + ln +- sum z^k / (k k!) (A&S 5.1.10, 5.1.11) and
+// ln z - ln(-z) = i pi sign(Im z). On the real axis the real Ei; see expint.h.
 // Each region evaluates the form without cancelling branch terms: the series is gamma + ln z + sum z^k / (k k!)
 // directly, and near the positive real axis the two branch terms cancel exactly and are left out.
 TY_FUNC TY_R2 expintEi(TY_R2 z) {
