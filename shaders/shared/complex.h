@@ -1,6 +1,8 @@
 // Complex arithmetic for shared GLSL/C++ code: a complex number is a vec2 (float) or dvec2 (double) holding
 // (re, im). The functions are written once (complex_impl.h) and instantiated here for both real types; GLSL and C++
-// pick the overload by argument type.
+// pick the overload by argument type. Functions: cMul, cInv, cDiv, cAbs, cExp, cLog (principal branch), and the real
+// realExp, realLog, realSin, realCos, realAtan2, realSignBit that resolve to the built-ins in float and to
+// double_math.h in double.
 //
 // Double precision is always there in C++; in GLSL only when the includer defined TY_ENABLE_DOUBLE before including
 // (the device needs shaderFloat64: any double function in a module makes glslang declare the Float64 capability).
@@ -14,6 +16,7 @@
 #include "compat.h"
 #include "constants.h"
 
+// TY_HAS_DOUBLE: defined where the double versions exist (for headers built on this one, like expint.h).
 #if defined(__cplusplus) || defined(TY_ENABLE_DOUBLE)
 #define TY_HAS_DOUBLE 1
 #include "double_math.h"
