@@ -3,7 +3,10 @@
 // - the overhead of an empty full-screen compute pass (one invocation per pixel writing one value) at 512x512 and
 //   1920x1080: wall time of submit + wait, and GPU time from timestamps;
 // - shadow rays per second through the shared BVH traversal on the GPU against Embree's rtcOccluded1 on the CPU, on the
-//   same rays (target >= 10 % of Embree's rate, stretch 25 %).
+//   same rays (target >= 10 % of Embree's rate, stretch 25 %);
+// - e^z E_n(z) of shared/expint.h (Pegoraro's closed form) per invocation, in float and double: order n alone
+//   (orders:0), orders 1..n through expintEnScaledAll's array (orders:1) or streamed from the recurrence pivot without
+//   an array (orders:2); GPU time per invocation (the CPU side is in expint_bench.cpp).
 #include "tyndall/geometry.h"
 #include "tyndall/gpu/bvh.h"
 #include "tyndall/gpu/harness.h"
@@ -15,9 +18,12 @@
 
 #include <embree3/rtcore.h>
 
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <random>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -175,6 +181,96 @@ void BM_EmbreeShadowRays(benchmark::State& state) {
     rtcReleaseDevice(device);
 }
 BENCHMARK(BM_EmbreeShadowRays)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Compiles a kernel; when it does not compile, or needs float64 the device lacks, skips the benchmark and returns no
+// code.
+std::vector<uint32_t> compileOrSkip(benchmark::State& state, const std::string& source, const char* name,
+                                    bool needsFloat64) {
+    if (needsFloat64 && !context().device().shaderFloat64) {
+        state.SkipWithError("the device has no float64");
+        return {};
+    }
+    CompileResult compiled = compileGlslSource(source, name, ShaderStage::Compute);
+    if (!compiled.ok) state.SkipWithError(compiled.log.c_str());
+    return compiled.ok ? compiled.spirv : std::vector<uint32_t>();
+}
+
+// The body of the kernel below: order n alone (mode 0), orders 1..n through expintEnScaledAll's array (mode 1) or
+// streamed from the recurrence pivot without an array (mode 2).
+const char* expintBody(int mode) {
+    if (mode == 1)
+        return "    ORDERS orders;\n"
+               "    expintEnScaledAll(push.n, t, orders);\n"
+               "    REAL2 sum = REAL2(0);\n"
+               "    for (int j = 0; j < push.n; ++j) sum += orders.value[j];\n"
+               "    values[i] = vec2(sum);\n";
+    if (mode == 2)
+        return "    int m = expintRecurrencePivot(push.n, t);\n"
+               "    REAL2 pivot = expintEnScaled(m, t);\n"
+               "    REAL2 sum = pivot, g = pivot;\n"
+               "    for (int j = m - 1; j >= 1; --j) { g = expintEnScaledDown(j, t, g); sum += g; }\n"
+               "    g = pivot;\n"
+               "    for (int j = m; j < push.n; ++j) { g = expintEnScaledUp(j, t, g); sum += g; }\n"
+               "    values[i] = vec2(sum);\n";
+    return "    values[i] = vec2(expintEnScaled(push.n, t));\n";
+}
+
+// Arguments t = H (v - i), H log-uniform in [1e-4, 50], v log-uniform in [1e-4, 1e4], as in expint_bench.cpp.
+void BM_GpuExpintEnScaled(benchmark::State& state) {
+    const bool isDouble = state.range(0) != 0;
+    const int order = int(state.range(1));
+    const int mode = int(state.range(2));  // see expintBody
+    const uint32_t count = 1u << 18;
+    std::string source = std::string("#version 460\n#extension GL_GOOGLE_include_directive : require\n") +
+                         (isDouble ? "#define TY_ENABLE_DOUBLE\n#define REAL2 dvec2\n#define ORDERS ExpintOrdersD\n"
+                                   : "#define REAL2 vec2\n#define ORDERS ExpintOrders\n") +
+                         "#include \"shared/expint.h\"\n"
+                         "layout(local_size_x = 64) in;\n"
+                         "layout(std430, set = 0, binding = 0) readonly buffer Args { vec2 ts[]; };\n"
+                         "layout(std430, set = 0, binding = 1) writeonly buffer Values { vec2 values[]; };\n"
+                         "layout(push_constant) uniform Push { uint count; int n; } push;\n"
+                         "void main() {\n"
+                         "    uint i = gl_GlobalInvocationID.x;\n"
+                         "    if (i >= push.count) return;\n"
+                         "    REAL2 t = REAL2(ts[i]);\n" +
+                         expintBody(mode) + "}\n";
+    std::vector<uint32_t> spirv = compileOrSkip(state, source, "expint.comp.glsl", isDouble);
+    if (spirv.empty()) return;
+    std::vector<glm::vec2> ts(count);
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> logH(std::log(1e-4f), std::log(50.0f)), logV(std::log(1e-4f), std::log(1e4f));
+    for (glm::vec2& t : ts) {
+        float h = std::exp(logH(rng)), v = std::exp(logV(rng));
+        t = glm::vec2(h * v, -h);
+    }
+    Buffer args(context(), count * sizeof(glm::vec2)), values(context(), count * sizeof(glm::vec2));
+    args.upload(ts);
+    ComputeKernel kernel(context(), spirv, 2, 8, "expint");
+    const uint32_t push[2] = {count, uint32_t(order)};
+    double gpuMs = 0.0;
+    for (auto _ : state) {
+        gpuMs += context().submitTimed([&](VkCommandBuffer cmd) {
+            kernel.record(cmd, {&args, &values}, push, count / 64);
+        });
+        kernel.resetDescriptors();
+    }
+    state.counters["gpu_ns/invocation"] = gpuMs * 1e6 / double(state.iterations()) / double(count);
+}
+BENCHMARK(BM_GpuExpintEnScaled)
+    ->ArgNames({"double", "n", "orders"})
+    ->Args({0, 1, 0})
+    ->Args({0, 9, 0})
+    ->Args({0, 33, 0})
+    ->Args({0, 9, 1})
+    ->Args({0, 33, 1})
+    ->Args({0, 9, 2})
+    ->Args({0, 33, 2})
+    ->Args({1, 1, 0})
+    ->Args({1, 9, 0})
+    ->Args({1, 9, 1})
+    ->Args({1, 9, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 
