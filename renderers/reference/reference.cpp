@@ -7,8 +7,6 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cmath>
 
@@ -41,8 +39,9 @@ std::vector<ParamInfo> ReferenceTechnique::parameters() const {
         ParamInfo i;
         i.name = "distanceSampling";
         i.type = ParamType::Enum;
-        i.doc = "how scattering distances for light sampling are chosen: MIS of both, delta tracking only, or "
-                "light-targeted where available (equiangular for point and area lights, uniform in a beam)";
+        i.doc =
+            "how scattering distances for light sampling are chosen: MIS of both, delta tracking only, or "
+            "light-targeted where available (equiangular for point and area lights, uniform in a beam)";
         i.enumValues = {"mis", "distance", "equiangular"};
         i.defaultValue = std::string("mis");
         p.push_back(i);
@@ -51,8 +50,9 @@ std::vector<ParamInfo> ReferenceTechnique::parameters() const {
         ParamInfo i;
         i.name = "lightSampling";
         i.type = ParamType::Enum;
-        i.doc = "how directions to area lights are chosen: MIS of both, light sampling only, or phase/BSDF sampling "
-                "only";
+        i.doc =
+            "how directions to area lights are chosen: MIS of both, light sampling only, or phase/BSDF sampling "
+            "only";
         i.enumValues = {"mis", "light", "phase"};
         i.defaultValue = std::string("mis");
         p.push_back(i);
@@ -112,8 +112,7 @@ Image resolve(const Accumulator& acc, int spp) {
 RenderResult ReferenceTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
-    std::vector<std::string> missing = unsupported(request.scene);
-    if (!missing.empty()) throw InputError(InputLocation{"", 0, 0, "scene"}, "the reference cannot render " + missing[0]);
+    requireSupported(request.scene);
 
     auto scene = reference::prepareScene(request.scene, request.projectDir);
     const IntegratorOptions options = optionsFrom(request.params);
@@ -133,28 +132,31 @@ RenderResult ReferenceTechnique::render(const RenderRequest& request, const Rend
         const int begin = done, end = std::min(targetSpp, done + passSize);
         const auto passStart = Clock::now();
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range2d<int>(0, height, 8, 0, width, 8), [&](const tbb::blocked_range2d<int>& r) {
-                if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
-                for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
-                    for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
-                        const uint32_t pixelSeed = shader::hashCombine(shader::hashCombine(seed, uint32_t(x)), uint32_t(y));
-                        const size_t p = size_t(y) * width + x;
-                        for (int s = begin; s < end; ++s) {
-                            const uint32_t stream = uint32_t(s) & 1u;
-                            reference::SampleStream samples(shader::hashCombine(pixelSeed, stream), uint32_t(s) >> 1u);
-                            glm::vec2 jitter = samples.next2D();
-                            glm::vec3 origin, dir;
-                            shader::cameraRay(scene->camera, float(x) + jitter.x, float(y) + jitter.y, origin, dir);
-                            glm::vec3 L = integrator.radiance(origin, dir, samples);
-                            if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
-                                nonFinite.fetch_add(1, std::memory_order_relaxed);
-                                L = glm::vec3(0.0f);
+            tbb::parallel_for(
+                tbb::blocked_range2d<int>(0, height, 8, 0, width, 8), [&](const tbb::blocked_range2d<int>& r) {
+                    if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
+                    for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
+                        for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
+                            const uint32_t pixelSeed =
+                                shader::hashCombine(shader::hashCombine(seed, uint32_t(x)), uint32_t(y));
+                            const size_t p = size_t(y) * width + x;
+                            for (int s = begin; s < end; ++s) {
+                                const uint32_t stream = uint32_t(s) & 1u;
+                                reference::SampleStream samples(shader::hashCombine(pixelSeed, stream),
+                                                                uint32_t(s) >> 1u);
+                                glm::vec2 jitter = samples.next2D();
+                                glm::vec3 origin, dir;
+                                shader::cameraRay(scene->camera, float(x) + jitter.x, float(y) + jitter.y, origin, dir);
+                                glm::vec3 L = integrator.radiance(origin, dir, samples);
+                                if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
+                                    nonFinite.fetch_add(1, std::memory_order_relaxed);
+                                    L = glm::vec3(0.0f);
+                                }
+                                (stream == 0 ? acc.sumA[p] : acc.sumB[p]) += glm::dvec3(L);
                             }
-                            (stream == 0 ? acc.sumA[p] : acc.sumB[p]) += glm::dvec3(L);
                         }
                     }
-                }
-            });
+                });
         });
         if (callbacks.cancel && callbacks.cancel->load()) throw Cancelled();
         done = end;
@@ -180,14 +182,8 @@ RenderResult ReferenceTechnique::render(const RenderRequest& request, const Rend
     result.spp = done;
     result.image = resolve(acc, done);
     result.seconds = elapsed();
-    nlohmann::json params = nlohmann::json::object();
-    for (const auto& [key, value] : request.params.values()) params[key] = toString(value);
-    result.image.metadata["technique"] = name();
-    result.image.metadata["parameters"] = params.dump();
+    stampMetadata(result, request);
     result.image.metadata["mode"] = request.params.getEnum("mode");
-    result.image.metadata["spp"] = std::to_string(done);
-    result.image.metadata["renderTime"] = std::to_string(result.seconds);
-    result.image.metadata["seed"] = std::to_string(request.seed);
     result.image.metadata["nonFiniteSamples"] = std::to_string(nonFinite.load());
     return result;
 }

@@ -3,6 +3,7 @@
 #include "tyndall/params.h"
 #include "tyndall/technique.h"
 
+#include "pegoraro/pegoraro.h"
 #include "reference/reference.h"
 
 #include <map>
@@ -17,6 +18,7 @@ struct Registry {
 
     Registry() {
         factories["reference"] = [] { return std::make_unique<ReferenceTechnique>(); };
+        factories["pegoraro"] = [] { return std::make_unique<PegoraroTechnique>(); };
     }
 };
 

@@ -2,6 +2,8 @@
 
 #include "tyndall/error.h"
 
+#include <nlohmann/json.hpp>
+
 namespace tyndall {
 
 namespace {
@@ -31,6 +33,25 @@ std::vector<std::string> Technique::unsupported(const Scene& scene) const {
     collectUnsupported(*this, scene.areaLights, "area light", out);
     collectUnsupported(*this, scene.materials, "material", out);
     return out;
+}
+
+void Technique::requireSupported(const Scene& scene) const {
+    const std::vector<std::string> missing = unsupported(scene);
+    if (!missing.empty())
+        throw InputError(InputLocation{"", 0, 0, "scene"},
+                         "the technique '" + name() + "' cannot render " + missing[0]);
+}
+
+void Technique::stampMetadata(RenderResult& result, const RenderRequest& request) const {
+    nlohmann::json params = nlohmann::json::object();
+    for (const auto& [key, value] : request.params.values())
+        params[key] = toString(value);
+    auto& meta = result.image.metadata;
+    meta["technique"] = name();
+    meta["parameters"] = params.dump();
+    meta["spp"] = std::to_string(result.spp);
+    meta["renderTime"] = std::to_string(result.seconds);
+    meta["seed"] = std::to_string(request.seed);
 }
 
 ScenePart Technique::defaultPart(const Scene& scene) const {

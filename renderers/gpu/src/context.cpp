@@ -11,27 +11,52 @@ void check(VkResult result, const char* what) {
     if (result == VK_SUCCESS) return;
     std::string reason;
     switch (result) {
-        case VK_ERROR_DEVICE_LOST: reason = "the device was lost"; break;
-        case VK_ERROR_OUT_OF_DEVICE_MEMORY: reason = "out of device memory"; break;
-        case VK_ERROR_OUT_OF_HOST_MEMORY: reason = "out of host memory"; break;
-        case VK_ERROR_INITIALIZATION_FAILED: reason = "initialisation failed"; break;
-        case VK_ERROR_INCOMPATIBLE_DRIVER: reason = "no compatible Vulkan driver"; break;
-        case VK_ERROR_LAYER_NOT_PRESENT: reason = "a requested layer is not installed"; break;
-        case VK_ERROR_EXTENSION_NOT_PRESENT: reason = "a requested extension is not available"; break;
-        case VK_ERROR_FEATURE_NOT_PRESENT: reason = "a requested feature is not available"; break;
-        case VK_TIMEOUT: reason = "timed out"; break;
-        default: reason = "VkResult " + std::to_string(int(result)); break;
+        case VK_ERROR_DEVICE_LOST:
+            reason = "the device was lost";
+            break;
+        case VK_ERROR_OUT_OF_DEVICE_MEMORY:
+            reason = "out of device memory";
+            break;
+        case VK_ERROR_OUT_OF_HOST_MEMORY:
+            reason = "out of host memory";
+            break;
+        case VK_ERROR_INITIALIZATION_FAILED:
+            reason = "initialisation failed";
+            break;
+        case VK_ERROR_INCOMPATIBLE_DRIVER:
+            reason = "no compatible Vulkan driver";
+            break;
+        case VK_ERROR_LAYER_NOT_PRESENT:
+            reason = "a requested layer is not installed";
+            break;
+        case VK_ERROR_EXTENSION_NOT_PRESENT:
+            reason = "a requested extension is not available";
+            break;
+        case VK_ERROR_FEATURE_NOT_PRESENT:
+            reason = "a requested feature is not available";
+            break;
+        case VK_TIMEOUT:
+            reason = "timed out";
+            break;
+        default:
+            reason = "VkResult " + std::to_string(int(result));
+            break;
     }
     throw GpuError(std::string(what) + ": " + reason, result);
 }
 
 std::string DeviceInfo::typeName() const {
     switch (type) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
-        default: return "other";
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return "discrete GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return "integrated GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return "virtual GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return "CPU";
+        default:
+            return "other";
     }
 }
 
@@ -39,11 +64,16 @@ namespace {
 
 int typeRank(VkPhysicalDeviceType type) {
     switch (type) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
-        default: return 0;
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return 4;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return 3;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return 1;
+        default:
+            return 0;
     }
 }
 
@@ -77,8 +107,8 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
     for (uint32_t i = 0; i < familyCount; ++i) {
         if (!(families[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
         // Prefer a family that also does graphics (the studio's display path); any compute family will do.
-        if (best < 0 || ((families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) &&
-                         !(families[best].queueFlags & VK_QUEUE_GRAPHICS_BIT)))
+        if (best < 0 ||
+            ((families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) && !(families[best].queueFlags & VK_QUEUE_GRAPHICS_BIT)))
             best = int(i);
     }
     if (best >= 0) {
@@ -123,7 +153,8 @@ bool layerAvailable(const char* name) {
 }
 
 std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    for (char& c : s)
+        c = char(std::tolower(static_cast<unsigned char>(c)));
     return s;
 }
 
@@ -157,7 +188,8 @@ std::vector<DeviceInfo> Context::enumerateDevices() {
     std::vector<VkPhysicalDevice> devices(count);
     vkEnumeratePhysicalDevices(instance, &count, devices.data());
     std::vector<DeviceInfo> out;
-    for (uint32_t i = 0; i < count; ++i) out.push_back(describe(devices[i], int(i)));
+    for (uint32_t i = 0; i < count; ++i)
+        out.push_back(describe(devices[i], int(i)));
     vkDestroyInstance(instance, nullptr);
     return out;
 }
@@ -218,7 +250,8 @@ void Context::pickDevice(const std::string& request) {
     std::vector<VkPhysicalDevice> devices(count);
     vkEnumeratePhysicalDevices(instance_, &count, devices.data());
     std::vector<DeviceInfo> infos;
-    for (uint32_t i = 0; i < count; ++i) infos.push_back(describe(devices[i], int(i)));
+    for (uint32_t i = 0; i < count; ++i)
+        infos.push_back(describe(devices[i], int(i)));
 
     int chosen = -1;
     if (!request.empty()) {
@@ -236,7 +269,8 @@ void Context::pickDevice(const std::string& request) {
                 }
             if (chosen < 0) {
                 std::string names;
-                for (const DeviceInfo& d : infos) names += " '" + d.name + "'";
+                for (const DeviceInfo& d : infos)
+                    names += " '" + d.name + "'";
                 throw GpuError("no Vulkan device named like '" + request + "'; devices:" + names);
             }
         }
@@ -318,7 +352,9 @@ void Context::createDevice(bool rayQuery) {
     check(vkCreatePipelineCache(device_, &cacheInfo, nullptr, &pipelineCache_), "creating a pipeline cache");
 }
 
-Context::~Context() { release(); }
+Context::~Context() {
+    release();
+}
 
 void Context::release() {
     if (device_) {
@@ -411,6 +447,14 @@ std::uint32_t Context::findMemoryType(std::uint32_t typeBits, VkMemoryPropertyFl
     }
     if (fallback < 0) throw GpuError("no Vulkan memory type with the required properties");
     return uint32_t(fallback);
+}
+
+std::shared_ptr<Context> sharedContext() {
+    static std::mutex mutex;
+    static std::shared_ptr<Context> context;
+    std::lock_guard lock(mutex);
+    if (!context) context = std::make_shared<Context>();
+    return context;
 }
 
 }  // namespace tyndall::gpu

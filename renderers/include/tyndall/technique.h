@@ -23,13 +23,13 @@ struct Support {
 };
 
 struct RenderRequest {
-    Scene scene;               // already narrowed to the view's part (ScenePart::apply)
-    ParamSet params;           // complete and valid for the technique
-    int spp = 0;               // samples per pixel to reach; 0: the technique's own default
-    double timeLimit = 0.0;    // s of wall time; 0: no limit. A progressive technique stops at whichever comes first
+    Scene scene;             // already narrowed to the view's part (ScenePart::apply)
+    ParamSet params;         // complete and valid for the technique
+    int spp = 0;             // samples per pixel to reach; 0: the technique's own default
+    double timeLimit = 0.0;  // s of wall time; 0: no limit. A progressive technique stops at whichever comes first
     std::uint64_t seed = 1;
-    int threads = 0;           // 0: all cores
-    std::string projectDir;    // folder that relative paths (OBJ files, tables) resolve against
+    int threads = 0;         // 0: all cores
+    std::string projectDir;  // folder that relative paths (OBJ files, tables) resolve against
 };
 
 // Callbacks from a render, called on the rendering thread. Keep them short.
@@ -40,8 +40,8 @@ struct RenderCallbacks {
 };
 
 struct RenderResult {
-    Image image;     // "R", "G", "B" and technique-specific extra channels; metadata filled by the technique
-    int spp = 0;     // samples per pixel reached (1 for deterministic techniques)
+    Image image;  // "R", "G", "B" and technique-specific extra channels; metadata filled by the technique
+    int spp = 0;  // samples per pixel reached (1 for deterministic techniques)
     double seconds = 0.0;
 };
 
@@ -87,6 +87,12 @@ public:
 
     virtual std::vector<ProbeInfo> probes() const { return {}; }
     virtual ProbeResult probe(const RenderRequest& request, const std::string& probeName, int x, int y);
+
+protected:
+    // Throws InputError naming the first element of `scene` this technique cannot render.
+    void requireSupported(const Scene& scene) const;
+    // The metadata every render carries: technique, parameters (JSON), spp, renderTime, seed.
+    void stampMetadata(RenderResult& result, const RenderRequest& request) const;
 };
 
 // Registry by name. Built-in techniques are registered explicitly (static registration is dropped by linkers when the

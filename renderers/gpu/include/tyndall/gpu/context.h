@@ -20,8 +20,7 @@ namespace tyndall::gpu {
 // it instead of crashing.
 class GpuError : public std::runtime_error {
 public:
-    GpuError(const std::string& what, VkResult result = VK_ERROR_UNKNOWN)
-        : std::runtime_error(what), result_(result) {}
+    GpuError(const std::string& what, VkResult result = VK_ERROR_UNKNOWN) : std::runtime_error(what), result_(result) {}
     VkResult result() const { return result_; }
     bool deviceLost() const { return result_ == VK_ERROR_DEVICE_LOST; }
     bool outOfMemory() const {
@@ -40,22 +39,22 @@ struct DeviceInfo {
     std::string name;
     VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
     std::uint32_t apiVersion = 0;
-    std::uint32_t queueFamily = 0;       // a family with compute (and graphics when available)
+    std::uint32_t queueFamily = 0;  // a family with compute (and graphics when available)
     std::uint32_t queueCount = 0;
-    float timestampPeriod = 0.0f;        // ns per timestamp tick; 0 when the queue has no timestamps
+    float timestampPeriod = 0.0f;  // ns per timestamp tick; 0 when the queue has no timestamps
     bool timelineSemaphores = false;
     bool shaderFloat64 = false;
-    bool rayQuery = false;               // VK_KHR_ray_query + acceleration structures
-    bool meshShader = false;             // VK_EXT_mesh_shader
-    bool descriptorIndexing = false;     // runtime descriptor arrays, partially bound
+    bool rayQuery = false;            // VK_KHR_ray_query + acceleration structures
+    bool meshShader = false;          // VK_EXT_mesh_shader
+    bool descriptorIndexing = false;  // runtime descriptor arrays, partially bound
     std::string typeName() const;
 };
 
 struct ContextOptions {
-    std::string device;     // "" for the best device; a decimal index; or a case-insensitive substring of its name
+    std::string device;  // "" for the best device; a decimal index; or a case-insensitive substring of its name
     // Khronos validation layers. Default: on in debug builds and whenever TYNDALL_VULKAN_VALIDATION=1.
-    int validation = -1;    // -1 default, 0 off, 1 on
-    bool rayQuery = true;   // enable VK_KHR_ray_query when the device has it (false forces the BVH path)
+    int validation = -1;   // -1 default, 0 off, 1 on
+    bool rayQuery = true;  // enable VK_KHR_ray_query when the device has it (false forces the BVH path)
 };
 
 class Context {
@@ -118,9 +117,14 @@ private:
     std::vector<std::string> validationErrors_;
 
     static VKAPI_ATTR VkBool32 VKAPI_CALL onValidationMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                                             VkDebugUtilsMessageTypeFlagsEXT types,
-                                                             const VkDebugUtilsMessengerCallbackDataEXT* data,
-                                                             void* user);
+                                                              VkDebugUtilsMessageTypeFlagsEXT types,
+                                                              const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                              void* user);
 };
+
+// The process's context for the techniques, created with default options on first use (thread-safe) and kept until
+// exit: every technique renders on it, so that pipelines and device memory are not duplicated per technique. Throws
+// GpuError when there is no Vulkan device.
+std::shared_ptr<Context> sharedContext();
 
 }  // namespace tyndall::gpu

@@ -1,0 +1,246 @@
+#include "pegoraro/pegoraro.h"
+
+#include "pegoraro/gpu_renderer.h"
+#include "pegoraro/prepared.h"
+
+#include "tyndall/error.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+namespace tyndall {
+
+using pegoraro::Precision;
+using pegoraro::PreparedScene;
+using pegoraro::Settings;
+
+PegoraroTechnique::PegoraroTechnique() = default;
+PegoraroTechnique::~PegoraroTechnique() = default;
+
+std::vector<ParamInfo> PegoraroTechnique::parameters() const {
+    std::vector<ParamInfo> p;
+    p.push_back({"device",
+                 ParamType::Enum,
+                 "Where the closed form runs: the GPU (Vulkan compute) or the CPU",
+                 "",
+                 0,
+                 0,
+                 std::string("gpu"),
+                 {"gpu", "cpu"}});
+    p.push_back({"precision",
+                 ParamType::Enum,
+                 "Arithmetic of the closed form: float is fast and good to ~1e-5 up to order 4; double to ~1e-10 up to "
+                 "order 12; auto picks float on the GPU up to order 4 and double otherwise",
+                 "",
+                 0,
+                 0,
+                 std::string("auto"),
+                 {"auto", "float", "double"}});
+    p.push_back({"supersampling", ParamType::Int,
+                 "S x S rays per pixel on a regular grid (a box filter like the reference's)", "", 1, 8,
+                 std::int64_t(2)});
+    p.push_back({"shadows", ParamType::Bool,
+                 "Exact volumetric shadows (lit intervals of each ray) and shadow rays at surfaces; off: the paper's "
+                 "unshadowed air-light",
+                 "", 0, 1, true});
+    p.push_back({"hgTerms", ParamType::Int,
+                 "Terms of the Henyey-Greenstein expansion (order + 1); its truncation error is reported", "", 1, 32,
+                 std::int64_t(8)});
+    p.push_back({"hgExpansion",
+                 ParamType::Enum,
+                 "Henyey-Greenstein as truncated Legendre series (Eq. 11-13) or Taylor series (Eq. 14-16)",
+                 "",
+                 0,
+                 0,
+                 std::string("legendre"),
+                 {"legendre", "taylor"}});
+    p.push_back({"hgTaylorCentre", ParamType::Float, "The cosine mu_0 the Taylor expansion is centred on (Eq. 15)", "",
+                 -0.9, 0.9, 0.0});
+    p.push_back({"fallback",
+                 ParamType::Enum,
+                 "auto: adaptive quadrature where the closed form's error bound exceeds fallbackTolerance; never; "
+                 "always (quadrature everywhere, for comparison)",
+                 "",
+                 0,
+                 0,
+                 std::string("auto"),
+                 {"auto", "never", "always"}});
+    p.push_back({"fallbackTolerance",
+                 ParamType::Float,
+                 "Relative error bound above which a pixel falls back",
+                 "",
+                 1e-10,
+                 1.0,
+                 1e-4,
+                 {},
+                 true});
+    p.push_back({"quadratureTolerance",
+                 ParamType::Float,
+                 "Relative tolerance of the fallback quadrature",
+                 "",
+                 1e-10,
+                 1e-2,
+                 1e-6,
+                 {},
+                 true});
+    return p;
+}
+
+Support PegoraroTechnique::supports(const HomogeneousMedium& medium) const {
+    if (medium.shape != MediumShape::Infinite)
+        return Support::no("the medium '" + medium.name +
+                           "' is bounded; the closed form integrates along whole rays in an infinite medium");
+    return Support::yes();
+}
+
+Support PegoraroTechnique::supports(const ParticleMedium& medium) const {
+    return Support::no("the particle medium '" + medium.name +
+                       "' is heterogeneous; the closed form needs a homogeneous one");
+}
+
+Support PegoraroTechnique::supports(const PointLight& light) const {
+    if (light.distribution.polynomial().size() > std::size_t(kMaxLightTerms))
+        return Support::no("the light '" + light.name + "' has more than " + std::to_string(kMaxLightTerms) +
+                           " polynomial terms (spot exponent above " + std::to_string(kMaxLightTerms - 1) + ")");
+    return Support::yes();
+}
+
+Support PegoraroTechnique::supports(const DirectionalLight& light) const {
+    return Support::no("the directional light '" + light.name +
+                       "' is not punctual; the closed form takes point lights");
+}
+
+Support PegoraroTechnique::supports(const AreaLight& light) const {
+    return Support::no("the area light '" + light.name + "' is not punctual; the closed form takes point lights");
+}
+
+namespace {
+
+struct CpuResult {
+    std::vector<glm::vec4> radiance;  // rgb, fallbacks
+    std::vector<std::uint32_t> overflows;
+};
+
+// The shared per-pixel renderer on the CPU, rows in parallel.
+CpuResult renderCpu(const PreparedScene& scene, bool useDouble, int width, int height, int threads,
+                    const RenderCallbacks& callbacks) {
+    CpuResult out;
+    out.radiance.resize(std::size_t(width) * height);
+    out.overflows.resize(std::size_t(width) * height);
+    std::atomic<int> rowsDone{0};
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, height, 1), [&](const tbb::blocked_range<int>& rows) {
+            pegoraro::SceneScope scope(scene);
+            for (int y = rows.begin(); y < rows.end(); ++y) {
+                if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
+                for (int x = 0; x < width; ++x) {
+                    const std::size_t i = std::size_t(y) * width + x;
+                    int overflows = 0;
+                    out.radiance[i] = useDouble ? shader::pegoraroPixel_double(scene.frame, x, y, overflows)
+                                                : shader::pegoraroPixel_float(scene.frame, x, y, overflows);
+                    out.overflows[i] = std::uint32_t(overflows);
+                }
+                const int done = rowsDone.fetch_add(1) + 1;
+                if (callbacks.progress && (done % 16 == 0)) callbacks.progress(double(done) / height);
+            }
+        });
+    });
+    if (callbacks.cancel && callbacks.cancel->load()) throw Cancelled();
+    return out;
+}
+
+std::string formatDouble(double x) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof(buffer), "%.6g", x);
+    return buffer;
+}
+
+}  // namespace
+
+RenderResult PegoraroTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    requireSupported(request.scene);
+
+    const Settings settings = pegoraro::settingsFrom(request.params);
+    const PreparedScene scene = pegoraro::prepareScene(request.scene, settings, request.projectDir);
+    const int width = request.scene.camera.width, height = request.scene.camera.height;
+
+    std::vector<glm::vec4> radiance;
+    std::vector<std::uint32_t> overflows;
+    std::string deviceName = "cpu";
+    double longestSliceMs = 0.0, gpuMs = 0.0, compileSeconds = 0.0;
+    bool useDouble = settings.precision == Precision::Double;
+    if (settings.gpu) {
+        if (!gpu_) gpu_ = std::make_unique<pegoraro::GpuRenderer>();
+        if (settings.precision == Precision::Auto)
+            useDouble = scene.maxTerms - 1 > pegoraro::kAutoFloatMaxOrder && gpu_->context().device().shaderFloat64;
+        pegoraro::GpuOutput g = gpu_->render(scene, useDouble, width, height, callbacks);
+        radiance = std::move(g.radiance);
+        overflows = std::move(g.overflows);
+        deviceName = g.deviceName;
+        longestSliceMs = g.longestSliceMs;
+        gpuMs = g.gpuMs;
+        compileSeconds = g.compileSeconds;
+    } else {
+        if (settings.precision == Precision::Auto) useDouble = true;
+        CpuResult c = renderCpu(scene, useDouble, width, height, request.threads, callbacks);
+        radiance = std::move(c.radiance);
+        overflows = std::move(c.overflows);
+    }
+
+    RenderResult result;
+    result.image = Image(width, height, {"R", "G", "B", "fallbacks"});
+    std::size_t fallbackPixels = 0, overflowPixels = 0, nonFinite = 0;
+    double fallbackEvaluations = 0.0;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const std::size_t i = std::size_t(y) * width + x;
+            glm::vec4 v = radiance[i];
+            if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
+                ++nonFinite;
+                v = glm::vec4(0.0f, 0.0f, 0.0f, v.w);
+            }
+            for (int c = 0; c < 3; ++c)
+                result.image.at(x, y, c) = v[c];
+            result.image.at(x, y, 3) = v.w;
+            if (v.w > 0.0f) ++fallbackPixels;
+            fallbackEvaluations += v.w;
+            if (overflows[i] > 0) ++overflowPixels;
+        }
+    }
+    if (callbacks.progress) callbacks.progress(1.0);
+
+    result.spp = 1;
+    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    stampMetadata(result, request);
+    auto& meta = result.image.metadata;
+    meta["device"] = deviceName;
+    meta["pegoraro:precision"] = useDouble ? "double" : "float";
+    meta["pegoraro:fallbackPixels"] = std::to_string(fallbackPixels);
+    meta["pegoraro:fallbackEvaluations"] = formatDouble(fallbackEvaluations);
+    meta["pegoraro:shadowOverflowPixels"] = std::to_string(overflowPixels);
+    meta["pegoraro:maxTerms"] = std::to_string(scene.maxTerms);
+    meta["nonFiniteSamples"] = std::to_string(nonFinite);
+    if (settings.gpu) {
+        meta["gpu:longestSliceMs"] = formatDouble(longestSliceMs);
+        meta["gpu:totalMs"] = formatDouble(gpuMs);
+        meta["gpu:compileSeconds"] = formatDouble(compileSeconds);
+    }
+    for (std::size_t m = 0; m < scene.phases.size(); ++m) {
+        const pegoraro::PhasePolynomial& p = scene.phases[m];
+        if (p.exact) continue;
+        const std::string key = "pegoraro:phaseTruncation[" + request.scene.media[m].name + "]";
+        meta[key] = "terms " + std::to_string(p.c.size()) + ", L1 " + formatDouble(p.l1Error) + ", max relative " +
+                    formatDouble(p.maxRelError) + ", minimum " + formatDouble(p.minimum);
+    }
+    return result;
+}
+
+}  // namespace tyndall

@@ -1,0 +1,185 @@
+#include "pegoraro/prepared.h"
+
+#include "pegoraro/pegoraro.h"
+#include "src/shader_params.h"
+
+#include "tyndall/error.h"
+#include "tyndall/geometry.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace tyndall::pegoraro {
+
+namespace {
+
+thread_local const PreparedScene* gBound = nullptr;
+
+const PreparedScene& bound() {
+    TY_CHECK(gBound != nullptr, "the Pegoraro accessors need a SceneScope on this thread");
+    return *gBound;
+}
+
+// A double as a pair of floats whose sum carries about 48 bits: the double closed form on the GPU reads both.
+glm::vec2 split(double x) {
+    const float hi = float(x);
+    return {hi, float(x - double(hi))};
+}
+
+int appendCoefficients(std::vector<glm::vec2>& out, const std::vector<double>& c) {
+    const int first = int(out.size());
+    for (double x : c)
+        out.push_back(split(x));
+    return first;
+}
+
+}  // namespace
+
+Settings settingsFrom(const ParamSet& params) {
+    Settings s;
+    s.gpu = params.getEnum("device") == "gpu";
+    const std::string& precision = params.getEnum("precision");
+    s.precision = precision == "double" ? Precision::Double : precision == "float" ? Precision::Float : Precision::Auto;
+    s.supersampling = int(params.getInt("supersampling"));
+    s.shadows = params.getBool("shadows");
+    s.hg.terms = int(params.getInt("hgTerms"));
+    s.hg.expansion = params.getEnum("hgExpansion") == "taylor" ? HgExpansion::Taylor : HgExpansion::Legendre;
+    s.hg.taylorCentre = params.getFloat("hgTaylorCentre");
+    const std::string& fallback = params.getEnum("fallback");
+    s.fallbackMode = fallback == "never"    ? shader::kPegoraroFallbackNever
+                     : fallback == "always" ? shader::kPegoraroFallbackAlways
+                                            : shader::kPegoraroFallbackAuto;
+    s.fallbackTolerance = params.getFloat("fallbackTolerance");
+    s.quadratureTolerance = params.getFloat("quadratureTolerance");
+    return s;
+}
+
+PreparedScene prepareScene(const Scene& scene, const Settings& settings, const std::string& projectDir) {
+    PreparedScene p;
+    shader::PegoraroFrame& f = p.frame;
+    f.camera = toCameraParams(scene.camera);
+    f.supersampling = settings.supersampling;
+    f.shadows = settings.shadows ? 1 : 0;
+    f.fallbackMode = settings.fallbackMode;
+    f.fallbackTolerance = float(settings.fallbackTolerance);
+    f.quadratureTolerance = float(settings.quadratureTolerance);
+
+    // Media: every infinite homogeneous medium, each with its own phase polynomial; extinction adds up.
+    glm::dvec3 sigmaT(0.0);
+    int maxPhaseTerms = 0;
+    for (const HomogeneousMedium& m : scene.media) {
+        PhasePolynomial phase = phasePolynomial(m.phase, settings.hg);
+        shader::PegoraroMedium pm{};
+        pm.sigmaS = glm::vec3(m.sigma_s);
+        pm.firstCoefficient = appendCoefficients(p.coefficients, phase.c);
+        pm.terms = int(phase.c.size());
+        maxPhaseTerms = std::max(maxPhaseTerms, pm.terms);
+        p.media.push_back(pm);
+        p.phases.push_back(std::move(phase));
+        sigmaT += m.sigma_t();
+    }
+    f.sigmaT = glm::vec3(sigmaT);
+    f.mediumCount = int(p.media.size());
+
+    int maxLightTerms = 0;
+    for (const PointLight& l : scene.pointLights) {
+        const std::vector<double> c = l.distribution.polynomial();
+        if (int(c.size()) > PegoraroTechnique::kMaxLightTerms)
+            throw InputError(
+                InputLocation{"", 0, 0, "lights[" + l.name + "].distribution"},
+                "the Pegoraro technique takes light distributions of at most " +
+                    std::to_string(PegoraroTechnique::kMaxLightTerms) + " terms (a spot exponent of at most " +
+                    std::to_string(PegoraroTechnique::kMaxLightTerms - 1) + "), got " + std::to_string(c.size()));
+        shader::PegoraroLight pl{};
+        pl.position = glm::vec3(l.position);
+        pl.axis = glm::vec3(glm::normalize(l.distribution.axis));
+        pl.intensity = glm::vec3(l.intensity);
+        pl.firstCoefficient = appendCoefficients(p.coefficients, c);
+        pl.terms = int(c.size());
+        maxLightTerms = std::max(maxLightTerms, pl.terms);
+        p.lights.push_back(pl);
+    }
+    f.lightCount = int(p.lights.size());
+    p.maxTerms = std::max(1, maxPhaseTerms + maxLightTerms - 1);
+    if (p.maxTerms > shader::kPegoraroMaxTerms)
+        throw InputError(InputLocation{"", 0, 0, "lights"},
+                         "a phase function of " + std::to_string(maxPhaseTerms) +
+                             " terms and a light distribution of " + std::to_string(maxLightTerms) +
+                             " make a closed form of " + std::to_string(p.maxTerms) +
+                             " terms; the Pegoraro technique takes at most " +
+                             std::to_string(shader::kPegoraroMaxTerms) + " (lower hgTerms or the spot exponent)");
+    if (p.coefficients.empty()) p.coefficients.push_back(glm::vec2(0.0f));  // no zero-sized buffers
+
+    // Surfaces.
+    for (const Material& m : scene.materials)
+        p.materials.push_back(toMaterialParams(m));
+    if (p.materials.empty()) p.materials.push_back(shader::MaterialParams{});
+    std::vector<TriangleMesh> meshes;
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Mesh& mesh : scene.meshes) {
+        TriangleMesh tm = buildMesh(mesh, projectDir);
+        auto it = std::find_if(scene.materials.begin(), scene.materials.end(),
+                               [&](const Material& m) { return m.name == mesh.material; });
+        if (it == scene.materials.end())
+            throw InputError(InputLocation{"", 0, 0, "meshes[" + mesh.name + "].material"},
+                             "unknown material '" + mesh.material + "'");
+        const int material = int(it - scene.materials.begin());
+        for (const glm::uvec3& t : tm.triangles) {
+            shader::SurfaceTriangle st{};
+            const glm::vec3 a = tm.positions[t.x], b = tm.positions[t.y], c = tm.positions[t.z];
+            const glm::vec3 n = glm::cross(b - a, c - a);
+            st.ng = glm::dot(n, n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f, 0.0f, 1.0f);
+            st.material = material;
+            st.tangent = glm::vec3(mesh.tangent);
+            if (!tm.normals.empty()) {
+                st.hasNormals = 1;
+                st.n0 = tm.normals[t.x];
+                st.n1 = tm.normals[t.y];
+                st.n2 = tm.normals[t.z];
+            }
+            p.triangles.push_back(st);
+        }
+        for (const glm::vec3& v : tm.positions) {
+            lo = glm::min(lo, v);
+            hi = glm::max(hi, v);
+        }
+        meshes.push_back(std::move(tm));
+    }
+    p.bvh = gpu::buildBvh(meshes);
+    if (p.triangles.empty()) p.triangles.push_back(shader::SurfaceTriangle{});
+    f.boundsMin = lo;
+    f.boundsMax = hi;
+    // The reference's offset for rays leaving surfaces: 1e-4 of the scene's size.
+    glm::vec3 extent = meshes.empty() ? glm::vec3(1.0f) : hi - lo;
+    f.rayOffset = 1e-4f * std::max(1e-3f, glm::length(extent));
+    return p;
+}
+
+SceneScope::SceneScope(const PreparedScene& scene) : previous_(gBound), bvh_(scene.bvh) {
+    gBound = &scene;
+}
+
+SceneScope::~SceneScope() {
+    gBound = previous_;
+}
+
+}  // namespace tyndall::pegoraro
+
+// The accessors of shaders/shared/pegoraro_scene.h over the scene bound to this thread.
+namespace tyndall::shader {
+PegoraroLight pegoraroLight(int i) {
+    return pegoraro::bound().lights[std::size_t(i)];
+}
+PegoraroMedium pegoraroMedium(int i) {
+    return pegoraro::bound().media[std::size_t(i)];
+}
+vec2 pegoraroCoefficient(int i) {
+    return pegoraro::bound().coefficients[std::size_t(i)];
+}
+SurfaceTriangle surfaceTriangle(int id) {
+    return pegoraro::bound().triangles[std::size_t(id)];
+}
+MaterialParams surfaceMaterial(int i) {
+    return pegoraro::bound().materials[std::size_t(i)];
+}
+}  // namespace tyndall::shader

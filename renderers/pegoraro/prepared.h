@@ -1,0 +1,64 @@
+// The Pegoraro technique's scene, prepared once per render for both paths: the std430 arrays of
+// shaders/shared/pegoraro_scene.h, the BVH, and what the render reports (truncation errors).
+#pragma once
+
+#include "pegoraro/coefficients.h"
+
+#include "shared/pegoraro_scene.h"
+#include "tyndall/gpu/bvh.h"
+#include "tyndall/params.h"
+#include "tyndall/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace tyndall::pegoraro {
+
+// Auto: float on the GPU while the closed form's order is at most kAutoFloatMaxOrder (float is accurate to ~1e-5
+// there, docs/pegoraro.md), double above it and on the CPU.
+enum class Precision { Auto, Float, Double };
+inline constexpr int kAutoFloatMaxOrder = 4;
+
+struct Settings {
+    bool gpu = true;
+    Precision precision = Precision::Auto;
+    int supersampling = 2;
+    bool shadows = true;
+    HgSettings hg;
+    int fallbackMode = shader::kPegoraroFallbackAuto;
+    double fallbackTolerance = 1e-4;
+    double quadratureTolerance = 1e-6;
+};
+
+Settings settingsFrom(const ParamSet& params);
+
+struct PreparedScene {
+    shader::PegoraroFrame frame{};
+    std::vector<shader::PegoraroLight> lights;
+    std::vector<shader::PegoraroMedium> media;
+    std::vector<glm::vec2> coefficients;  // (hi, lo) float pairs, value = hi + lo
+    std::vector<shader::SurfaceTriangle> triangles;
+    std::vector<shader::MaterialParams> materials;
+    gpu::Bvh bvh;
+    int maxTerms = 1;                     // the largest N = N_phi + N_I - 1 over (medium, light) pairs
+    std::vector<PhasePolynomial> phases;  // per medium, for the report
+};
+
+// Throws InputError for scene content the technique cannot render or that is inconsistent.
+PreparedScene prepareScene(const Scene& scene, const Settings& settings, const std::string& projectDir);
+
+// Binds a prepared scene to the calling thread for the C++ definitions of the accessors of pegoraro_scene.h (and its
+// BVH for bvh.h's), so that the shared per-pixel renderer runs on the CPU. The scene must outlive the scope.
+class SceneScope {
+public:
+    explicit SceneScope(const PreparedScene& scene);
+    ~SceneScope();
+    SceneScope(const SceneScope&) = delete;
+    SceneScope& operator=(const SceneScope&) = delete;
+
+private:
+    const PreparedScene* previous_;
+    gpu::BvhScope bvh_;
+};
+
+}  // namespace tyndall::pegoraro

@@ -1,0 +1,50 @@
+#version 460
+// The Pegoraro technique on the GPU: one invocation per pixel runs the shared per-pixel renderer
+// (shared/pegoraro_scene.h) over the scene in storage buffers. renderers/pegoraro/ compiles variants at run time by
+// inserting defines after the #version line:
+//   TY_PEGORARO_MAX_TERMS n   arrays for at most n terms of the closed form (default 40, shared/pegoraro.h)
+//   TY_ENABLE_DOUBLE          the closed form in double precision (the device needs shaderFloat64)
+//   TY_BVH_WORDS              BVH arrays read as 64-bit words (needs shaderFloat64)
+// The build compiles this file as it is (float, 40 terms) so that CI validates it with spirv-val.
+#extension GL_GOOGLE_include_directive : require
+
+#define TY_BVH_NODES_BINDING 0
+#define TY_BVH_TRIANGLES_BINDING 1
+#include "../include/bvh_buffers.glsl"
+#include "../shared/pegoraro_scene.h"
+
+layout(local_size_x = 64) in;
+
+layout(std430, set = 0, binding = 2) readonly buffer Frame { PegoraroFrame frame; };
+layout(std430, set = 0, binding = 3) readonly buffer Lights { PegoraroLight lights[]; };
+layout(std430, set = 0, binding = 4) readonly buffer Media { PegoraroMedium media[]; };
+layout(std430, set = 0, binding = 5) readonly buffer Coefficients { vec2 coefficients[]; };
+layout(std430, set = 0, binding = 6) readonly buffer SurfaceTriangles { SurfaceTriangle surfaceTriangles[]; };
+layout(std430, set = 0, binding = 7) readonly buffer Materials { MaterialParams materials[]; };
+layout(std430, set = 0, binding = 8) writeonly buffer Radiance { vec4 radiance[]; };  // rgb, fallbacks
+layout(std430, set = 0, binding = 9) writeonly buffer Overflows { uint overflows[]; };
+
+layout(push_constant) uniform Push {
+    uint first;  // first pixel of this dispatch (row-major)
+    uint count;  // pixels in the image
+    uint width;
+} push;
+
+PegoraroLight pegoraroLight(int i) { return lights[i]; }
+PegoraroMedium pegoraroMedium(int i) { return media[i]; }
+vec2 pegoraroCoefficient(int i) { return coefficients[i]; }
+SurfaceTriangle surfaceTriangle(int id) { return surfaceTriangles[id]; }
+MaterialParams surfaceMaterial(int i) { return materials[i]; }
+
+void main() {
+    uint i = push.first + gl_GlobalInvocationID.x;
+    if (i >= push.count) return;
+    int px = int(i % push.width), py = int(i / push.width);
+    int overflowCount;
+#ifdef TY_ENABLE_DOUBLE
+    radiance[i] = pegoraroPixel_double(frame, px, py, overflowCount);
+#else
+    radiance[i] = pegoraroPixel_float(frame, px, py, overflowCount);
+#endif
+    overflows[i] = uint(overflowCount);
+}

@@ -1,0 +1,148 @@
+// The Pegoraro technique's per-pixel renderer for one precision of the closed form (TY_R, TY_R2, TY_R3 defined by
+// pegoraro_scene.h, which includes this file once per precision). Geometry (rays, hits, lit intervals) is float; the
+// closed form and everything it depends on (h, xh, the cosines, the interval ends) is computed in TY_R.
+
+TY_BEGIN
+
+TY_FUNC TY_RS(PegoraroPolynomial) TY_RS(pegoraroLoadPolynomial)(int first, int terms) {
+    TY_RS(PegoraroPolynomial) p;
+    p.terms = min(terms, kPegoraroMaxTerms);
+    for (int k = 0; k < kPegoraroMaxTerms; ++k) {
+        vec2 split = k < p.terms ? pegoraroCoefficient(first + k) : vec2(0.0f);
+        p.c[k] = TY_R(split.x) + TY_R(split.y);
+    }
+    return p;
+}
+
+// I over [ua, ub] (pegoraro.h) for one channel: the closed form, or the quadrature where the closed form's error bound
+// exceeds the tolerance (counted in `fallbacks`).
+TY_FUNC TY_R pegoraroChannel(TY_IN(PegoraroFrame) f, TY_IN(TY_RS(PegoraroSeries)) s,
+                             TY_IN(TY_RS(PegoraroPolynomial)) phase, TY_IN(TY_RS(PegoraroPolynomial)) light, TY_R H,
+                             TY_R ua, TY_R ub, TY_R del, TY_R dc, TY_INOUT(int) fallbacks) {
+    bool quadrature = f.fallbackMode == kPegoraroFallbackAlways || s.terms == 0;
+    TY_R value = TY_R(0.0f);
+    if (!quadrature) {
+        TY_R errorBound;
+        value = pegoraroIntegral(s, H, ua, ub, errorBound);
+        quadrature = f.fallbackMode == kPegoraroFallbackAuto && errorBound > TY_R(f.fallbackTolerance) * abs(value);
+    }
+    if (quadrature) {
+        int panels;
+        value = pegoraroQuadrature(H, ua, ub, del, dc, phase, light, TY_R(f.quadratureTolerance), panels);
+        ++fallbacks;
+    }
+    return value;
+}
+
+// Eq. 3-7 summed over the lit parts of origin + t dir, t in [0, tEnd] (tEnd >= kInfinity: the ray never ends), for
+// one light and every medium: the medium radiance arriving at the origin.
+TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(PegoraroLight) light, TY_IN(vec3) origin,
+                                           TY_IN(vec3) dir, float tEnd, TY_INOUT(int) fallbacks,
+                                           TY_INOUT(int) overflows) {
+    TY_R3 o = TY_R3(origin), d = TY_R3(dir), pl = TY_R3(light.position), axis = TY_R3(light.axis);
+    TY_R xh = dot(pl - o, d);  // the foot of the perpendicular from the light
+    TY_R3 foot = o + xh * d;
+    TY_R h = length(foot - pl);
+    vec3 radiance = vec3(0.0f);
+    if (!(h > TY_R(0.0f))) return radiance;  // the light on the ray itself: a set of measure zero
+    TY_R del = dot(d, axis);
+    TY_R dc = dot(foot - pl, axis) / h;
+
+    // The lit parts of the ray. Beyond the bounds of the triangles nothing casts a shadow.
+    LitIntervals lit;
+    int pieces = 1;
+    lit.pieces[0] = vec2(0.0f, tEnd);
+    if (f.shadows != 0) {
+        float tBox = min(tEnd, pegoraroBoxExit(origin, dir, f.boundsMin, f.boundsMax));
+        pieces = tBox > 0.0f ? litIntervals(light.position, origin, dir, 0.0f, tBox, lit) : 0;
+        if (pieces == kLitOverflow) {
+            ++overflows;  // more shadow boundaries than fit: unshadowed, and reported
+            pieces = 1;
+            lit.pieces[0] = vec2(0.0f, tEnd);
+        } else if (tBox < tEnd) {
+            if (pieces > 0 && lit.pieces[pieces - 1].y >= tBox) {
+                lit.pieces[pieces - 1].y = tEnd;
+            } else if (pieces < kMaxLitIntervals) {
+                lit.pieces[pieces] = vec2(tBox, tEnd);
+                ++pieces;
+            } else {
+                ++overflows;
+            }
+        }
+    }
+
+    TY_RS(PegoraroPolynomial) lightPolynomial = TY_RS(pegoraroLoadPolynomial)(light.firstCoefficient, light.terms);
+    bool grey = f.sigmaT.x == f.sigmaT.y && f.sigmaT.x == f.sigmaT.z;
+    for (int m = 0; m < f.mediumCount; ++m) {
+        PegoraroMedium medium = pegoraroMedium(m);
+        TY_RS(PegoraroPolynomial) phase = TY_RS(pegoraroLoadPolynomial)(medium.firstCoefficient, medium.terms);
+        TY_RS(PegoraroSeries) s;
+        pegoraroSeries(del, dc, phase, lightPolynomial, s);
+        for (int i = 0; i < pieces; ++i) {
+            TY_R ta = TY_R(lit.pieces[i].x);
+            TY_R ua = (ta - xh) / h;
+            TY_R ub = lit.pieces[i].y >= kInfinity ? TY_R(kInfinity) : (TY_R(lit.pieces[i].y) - xh) / h;
+            vec3 integral;
+            for (int c = 0; c < 3; ++c) {
+                if (c > 0 && grey) {
+                    integral[c] = integral[0];
+                    continue;
+                }
+                TY_R sigmaT = TY_R(f.sigmaT[c]);
+                integral[c] =
+                    float(pegoraroChannel(f, s, phase, lightPolynomial, sigmaT * h, ua, ub, del, dc, fallbacks) *
+                          realExp(-sigmaT * ta) / h);
+            }
+            // Eq. 4: Lm = sigma_s / h * I, with the transmittance e^(-sigma_t ta) from the camera to the interval.
+            radiance += medium.sigmaS * light.intensity * integral;
+        }
+    }
+    return radiance;
+}
+
+// The radiance of pixel (px, py): S x S rays on a regular grid, each the medium radiance of every light plus the
+// reduced radiance of the surface behind (Eq. 1, 2, 8). Returns the radiance in xyz and the number of closed-form
+// evaluations that fell back to quadrature in w; `overflows` counts rays whose shadow boundaries did not fit.
+TY_FUNC vec4 TY_RS(pegoraroPixel)(TY_IN(PegoraroFrame) f, int px, int py, TY_OUT(int) overflows) {
+    vec3 sum = vec3(0.0f);
+    int fallbacks = 0;
+    overflows = 0;
+    int S = max(f.supersampling, 1);
+    for (int sy = 0; sy < S; ++sy) {
+        for (int sx = 0; sx < S; ++sx) {
+            vec3 origin, dir;
+            cameraRay(f.camera, float(px) + (float(sx) + 0.5f) / float(S), float(py) + (float(sy) + 0.5f) / float(S),
+                      origin, dir);
+            BvhHit hit;
+            bool hasHit = bvhIntersect(origin, dir, 0.0f, kInfinity, hit);
+            float tEnd = hasHit ? hit.t : kInfinity;
+            // Without a hit these stay unused; they are filled so that every path initialises them.
+            SurfaceTriangle st = surfaceTriangle(hasHit ? int(hit.id) : 0);
+            SurfaceFrame frame = surfaceFrame(st, hasHit ? hit.uv : vec2(0.0f), dir);
+            MaterialParams material = surfaceMaterial(st.material);
+            vec3 xs = origin + (hasHit ? hit.t : 0.0f) * dir;
+            for (int l = 0; l < f.lightCount; ++l) {
+                PegoraroLight light = pegoraroLight(l);
+                if (f.mediumCount > 0)
+                    sum += TY_RS(pegoraroMediumRadiance)(f, light, origin, dir, tEnd, fallbacks, overflows);
+                if (!hasHit) continue;
+                // Eq. 8 and Eq. 2: direct light at the surface, attenuated on both legs.
+                vec3 toLight = light.position - xs;
+                float distance = length(toLight);
+                if (!(distance > 0.0f)) continue;
+                vec3 wi = toLight / distance;
+                vec3 reflected = surfaceReflect(material, frame, -dir, wi);
+                if (reflected == vec3(0.0f)) continue;
+                if (f.shadows != 0 && bvhOccluded(xs + f.rayOffset * frame.ng, wi, 0.0f, distance * (1.0f - 1e-4f)))
+                    continue;
+                TY_RS(PegoraroPolynomial) lp = TY_RS(pegoraroLoadPolynomial)(light.firstCoefficient, light.terms);
+                float intensity = float(pegoraroHorner(lp, TY_R(dot(-wi, light.axis))));
+                vec3 transmittance = exp(-f.sigmaT * (hit.t + distance));
+                sum += light.intensity * max(intensity, 0.0f) / (distance * distance) * transmittance * reflected;
+            }
+        }
+    }
+    return vec4(sum / float(S * S), float(fallbacks));
+}
+
+TY_END

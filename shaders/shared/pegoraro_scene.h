@@ -1,0 +1,110 @@
+// The Pegoraro technique's scene as the GPU sees it (std430 layouts, declared once for GLSL and C++), and the
+// per-pixel renderer shared by its compute shader and its CPU path: camera rays, closest hits, the closed-form medium
+// radiance of every (medium, light) pair over the lit parts of the ray, and the surface behind (Eq. 1, 2, 8 of the
+// Pegoraro paper (003)). Precision-independent parts are here; pegoraro_pixel_impl.h holds the rest, per precision.
+//
+// The includer defines the accessors after including this header (as for bvh.h):
+//   PegoraroLight pegoraroLight(int i);      PegoraroMedium pegoraroMedium(int i);
+//   vec2 pegoraroCoefficient(int i);          a polynomial coefficient as a float pair (hi, lo), value = hi + lo
+//   SurfaceTriangle surfaceTriangle(int id);  MaterialParams surfaceMaterial(int i);
+// and bvhNode / bvhTriangle for bvh.h.
+#ifndef TY_SHARED_PEGORARO_SCENE_H
+#define TY_SHARED_PEGORARO_SCENE_H
+
+#include "bvh.h"
+#include "camera.h"
+#include "compat.h"
+#include "constants.h"
+#include "lit_intervals.h"
+#include "pegoraro.h"
+#include "surface.h"
+
+TY_BEGIN
+
+// A point light, 48 bytes: I(s) = intensity * sum_k c_k s^k with s the cosine to the axis.
+struct PegoraroLight {
+    vec3 position;         // m
+    int firstCoefficient;  // index of c_0 among the coefficients
+    vec3 axis;             // unit
+    int terms;             // number of coefficients, >= 1
+    vec3 intensity;        // W/sr, linear RGB
+    float pad0;
+};
+
+// An infinite homogeneous medium, 32 bytes: its scattering coefficient and phase function Phi(mu) = sum_k c_k mu^k.
+struct PegoraroMedium {
+    vec3 sigmaS;  // 1/m
+    int firstCoefficient;
+    int terms;
+    float pad0;
+    float pad1;
+    float pad2;
+};
+
+TY_CONST int kPegoraroFallbackAuto = 0;    // quadrature where the closed form's error bound exceeds the tolerance
+TY_CONST int kPegoraroFallbackNever = 1;   // the closed form everywhere
+TY_CONST int kPegoraroFallbackAlways = 2;  // quadrature everywhere (for comparison)
+
+// Everything else a frame needs, 144 bytes.
+struct PegoraroFrame {
+    CameraParams camera;
+    vec3 sigmaT;  // 1/m, the sum of every medium's extinction
+    int lightCount;
+    int mediumCount;
+    int supersampling;          // S: S x S sub-pixel samples on a regular grid (a box filter)
+    int shadows;                // 1: lit intervals in the medium and shadow rays at surfaces
+    int fallbackMode;           // kPegoraroFallback*
+    float fallbackTolerance;    // relative error bound above which the closed form falls back
+    float quadratureTolerance;  // relative tolerance of the fallback quadrature
+    float rayOffset;            // m, offset of shadow rays from surfaces
+    float pad0;
+    vec3 boundsMin;  // m, the bounds of every triangle: beyond them nothing casts a shadow
+    float pad1;
+    vec3 boundsMax;
+    float pad2;
+};
+
+// Supplied by the includer (see the top of the file).
+PegoraroLight pegoraroLight(int i);
+PegoraroMedium pegoraroMedium(int i);
+vec2 pegoraroCoefficient(int i);
+SurfaceTriangle surfaceTriangle(int id);
+MaterialParams surfaceMaterial(int i);
+
+// Where the ray origin + t dir leaves the box [lo, hi] (0 when it starts outside and misses it).
+TY_FUNC float pegoraroBoxExit(TY_IN(vec3) origin, TY_IN(vec3) dir, TY_IN(vec3) lo, TY_IN(vec3) hi) {
+    float tNear = 0.0f, tFar = kInfinity;
+    for (int a = 0; a < 3; ++a) {
+        if (abs(dir[a]) < 1e-30f) {
+            if (origin[a] < lo[a] || origin[a] > hi[a]) return 0.0f;
+            continue;
+        }
+        float t0 = (lo[a] - origin[a]) / dir[a];
+        float t1 = (hi[a] - origin[a]) / dir[a];
+        tNear = max(tNear, min(t0, t1));
+        tFar = min(tFar, max(t0, t1));
+    }
+    return tNear <= tFar ? tFar : 0.0f;
+}
+
+TY_END
+
+#define TY_R float
+#define TY_R2 vec2
+#define TY_R3 vec3
+#include "pegoraro_pixel_impl.h"
+#undef TY_R
+#undef TY_R2
+#undef TY_R3
+
+#ifdef TY_HAS_DOUBLE
+#define TY_R double
+#define TY_R2 dvec2
+#define TY_R3 dvec3
+#include "pegoraro_pixel_impl.h"
+#undef TY_R
+#undef TY_R2
+#undef TY_R3
+#endif
+
+#endif  // TY_SHARED_PEGORARO_SCENE_H
