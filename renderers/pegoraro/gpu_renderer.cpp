@@ -88,8 +88,13 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     auto surfaceTriangles = upload(scene.triangles);
     auto materials = upload(scene.materials);
     const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
-    gpu::Buffer radiance(ctx, pixels * sizeof(glm::vec4));
-    gpu::Buffer overflows(ctx, pixels * sizeof(std::uint32_t));
+    const std::uint64_t perPixel =
+        std::uint64_t(std::max(scene.frame.supersampling, 1)) * std::max(scene.frame.supersampling, 1);
+    const std::uint64_t samples = pixels * perPixel;
+    if (samples > 0xFFFFFFFFull)
+        throw InputError(InputLocation{"", 0, 0, "supersampling"}, "too many samples for one GPU render");
+    gpu::Buffer radiance(ctx, samples * sizeof(glm::vec4));
+    gpu::Buffer overflows(ctx, samples * sizeof(std::uint32_t));
     const std::vector<const gpu::Buffer*> buffers = {
         nodes.get(),        triangles.get(),        frame.get(),     lights.get(), media.get(),
         coefficients.get(), surfaceTriangles.get(), materials.get(), &radiance,    &overflows};
@@ -97,10 +102,10 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     gpu::SliceStats stats;
     try {
         stats = gpu::runSliced(
-            ctx, pixels,
+            ctx, samples,
             [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t count) {
-                if (callbacks.progress) callbacks.progress(double(begin) / double(pixels));
-                Push push{std::uint32_t(begin), std::uint32_t(pixels), std::uint32_t(width)};
+                if (callbacks.progress) callbacks.progress(double(begin) / double(samples));
+                Push push{std::uint32_t(begin), std::uint32_t(samples), std::uint32_t(width)};
                 k.record(cmd, buffers, &push, std::uint32_t((count + kGroupSize - 1) / kGroupSize));
                 gpu::computeToComputeBarrier(cmd);
             },
@@ -111,9 +116,20 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     }
     k.resetDescriptors();
 
+    // The mean of each pixel's samples, the sums of their fallbacks and overflows.
+    const std::vector<glm::vec4> perSample = radiance.download<glm::vec4>(samples);
+    const std::vector<std::uint32_t> overflowsPerSample = overflows.download<std::uint32_t>(samples);
     GpuOutput out;
-    out.radiance = radiance.download<glm::vec4>(pixels);
-    out.overflows = overflows.download<std::uint32_t>(pixels);
+    out.radiance.assign(pixels, glm::vec4(0.0f));
+    out.overflows.assign(pixels, 0u);
+    for (std::uint64_t p = 0; p < pixels; ++p) {
+        glm::vec4 sum(0.0f);
+        for (std::uint64_t k = 0; k < perPixel; ++k) {
+            sum += perSample[p * perPixel + k];
+            out.overflows[p] += overflowsPerSample[p * perPixel + k];
+        }
+        out.radiance[p] = glm::vec4(glm::vec3(sum) / float(perPixel), sum.w);
+    }
     out.deviceName = ctx.device().name;
     out.longestSliceMs = stats.longestMs;
     out.gpuMs = stats.totalMs;

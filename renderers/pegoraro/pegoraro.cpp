@@ -42,7 +42,7 @@ std::vector<ParamInfo> PegoraroTechnique::parameters() const {
                  std::string("auto"),
                  {"auto", "float", "double"}});
     p.push_back({"supersampling", ParamType::Int,
-                 "S x S rays per pixel on a regular grid (a box filter like the reference's)", "", 1, 8,
+                 "S x S rays per pixel on a regular grid (a box filter like the reference's)", "", 1, 16,
                  std::int64_t(2)});
     p.push_back({"shadows", ParamType::Bool,
                  "Exact volumetric shadows (lit intervals of each ray) and shadow rays at surfaces; off: the paper's "

@@ -21,12 +21,15 @@ layout(std430, set = 0, binding = 4) readonly buffer Media { PegoraroMedium medi
 layout(std430, set = 0, binding = 5) readonly buffer Coefficients { vec2 coefficients[]; };
 layout(std430, set = 0, binding = 6) readonly buffer SurfaceTriangles { SurfaceTriangle surfaceTriangles[]; };
 layout(std430, set = 0, binding = 7) readonly buffer Materials { MaterialParams materials[]; };
+// One entry per sample (pixel-major, S x S samples per pixel): the host averages them. One invocation per sample
+// rather than a loop over a pixel's samples: lavapipe runs that loop tens of times slower than the same rays spread
+// over invocations.
 layout(std430, set = 0, binding = 8) writeonly buffer Radiance { vec4 radiance[]; };  // rgb, fallbacks
 layout(std430, set = 0, binding = 9) writeonly buffer Overflows { uint overflows[]; };
 
 layout(push_constant) uniform Push {
-    uint first;  // first pixel of this dispatch (row-major)
-    uint count;  // pixels in the image
+    uint first;  // first sample of this dispatch
+    uint count;  // samples in the image: width * height * S * S
     uint width;
 } push;
 
@@ -39,12 +42,15 @@ MaterialParams surfaceMaterial(int i) { return materials[i]; }
 void main() {
     uint i = push.first + gl_GlobalInvocationID.x;
     if (i >= push.count) return;
-    int px = int(i % push.width), py = int(i / push.width);
-    int overflowCount;
+    uint samples = uint(max(frame.supersampling, 1) * max(frame.supersampling, 1));
+    uint pixel = i / samples;
+    int k = int(i - pixel * samples);
+    int px = int(pixel % push.width), py = int(pixel / push.width);
+    int overflowCount = 0;
 #ifdef TY_ENABLE_DOUBLE
-    radiance[i] = pegoraroPixel_double(frame, px, py, overflowCount);
+    radiance[i] = pegoraroSample_double(frame, px, py, k, overflowCount);
 #else
-    radiance[i] = pegoraroPixel_float(frame, px, py, overflowCount);
+    radiance[i] = pegoraroSample_float(frame, px, py, k, overflowCount);
 #endif
     overflows[i] = uint(overflowCount);
 }

@@ -285,6 +285,7 @@ TY_FUNC TY_R pegoraroQuadrature(TY_R H, TY_R ua, TY_R ub, TY_R del, TY_R dc, TY_
     TY_R zero = TY_R(0.0f);
     panels = 0;
     if (!(ub > ua)) return zero;
+    relTol = max(relTol, TY_R(64.0f) * TY_R(TY_R_EPSILON));  // float cannot do better than ~4e-6
     TY_R thetaA = realAtan2(ua, TY_R(1.0f));
     TY_R thetaB = ub < TY_R(kInfinity) ? realAtan2(ub, TY_R(1.0f)) : realAtan2(TY_R(1.0f), TY_R(0.0f));  // pi / 2
     // A first estimate by composite Simpson on the initial panels sets the absolute tolerance.

@@ -48,26 +48,47 @@ TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(Pegorar
     TY_R del = dot(d, axis);
     TY_R dc = dot(foot - pl, axis) / h;
 
-    // The lit parts of the ray. Beyond the bounds of the triangles nothing casts a shadow.
+    // The lit parts of the ray: exact lit intervals inside the bounds of the triangles (with float precision relative
+    // to that length), then again, more coarsely, up to where the camera's transmittance falls below e^-40 (points
+    // outside the bounds can still see the light through them); beyond that the ray counts as lit, a tail below 1e-17
+    // of the radiance.
     LitIntervals lit;
     int pieces = 1;
     lit.pieces[0] = vec2(0.0f, tEnd);
     if (f.shadows != 0) {
-        float tBox = min(tEnd, pegoraroBoxExit(origin, dir, f.boundsMin, f.boundsMax));
-        pieces = tBox > 0.0f ? litIntervals(light.position, origin, dir, 0.0f, tBox, lit) : 0;
+        float tNear = min(tEnd, pegoraroBoxExit(origin, dir, f.boundsMin, f.boundsMax));
+        float sigmaMin = max(min(f.sigmaT.x, min(f.sigmaT.y, f.sigmaT.z)), 1e-30f);
+        float tFar = min(tEnd, max(tNear, 40.0f / sigmaMin));
+        pieces = tNear > 0.0f ? litIntervals(light.position, origin, dir, 0.0f, tNear, lit) : 0;
+        if (pieces != kLitOverflow && tFar > tNear) {
+            LitIntervals far;
+            int farPieces = litIntervals(light.position, origin, dir, tNear, tFar, far);
+            for (int i = 0; i < farPieces && pieces != kLitOverflow; ++i) {
+                if (pieces > 0 && lit.pieces[pieces - 1].y >= far.pieces[i].x) {
+                    lit.pieces[pieces - 1].y = far.pieces[i].y;  // continues across tNear
+                } else if (pieces < kMaxLitIntervals) {
+                    lit.pieces[pieces] = far.pieces[i];
+                    ++pieces;
+                } else {
+                    pieces = kLitOverflow;
+                }
+            }
+            if (farPieces == kLitOverflow) pieces = kLitOverflow;
+        }
+        if (pieces != kLitOverflow && tEnd > tFar) {
+            if (pieces > 0 && lit.pieces[pieces - 1].y >= tFar) {
+                lit.pieces[pieces - 1].y = tEnd;
+            } else if (pieces < kMaxLitIntervals) {
+                lit.pieces[pieces] = vec2(tFar, tEnd);
+                ++pieces;
+            } else {
+                pieces = kLitOverflow;
+            }
+        }
         if (pieces == kLitOverflow) {
             ++overflows;  // more shadow boundaries than fit: unshadowed, and reported
             pieces = 1;
             lit.pieces[0] = vec2(0.0f, tEnd);
-        } else if (tBox < tEnd) {
-            if (pieces > 0 && lit.pieces[pieces - 1].y >= tBox) {
-                lit.pieces[pieces - 1].y = tEnd;
-            } else if (pieces < kMaxLitIntervals) {
-                lit.pieces[pieces] = vec2(tBox, tEnd);
-                ++pieces;
-            } else {
-                ++overflows;
-            }
         }
     }
 
@@ -100,49 +121,59 @@ TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(Pegorar
     return radiance;
 }
 
-// The radiance of pixel (px, py): S x S rays on a regular grid, each the medium radiance of every light plus the
-// reduced radiance of the surface behind (Eq. 1, 2, 8). Returns the radiance in xyz and the number of closed-form
-// evaluations that fell back to quadrature in w; `overflows` counts rays whose shadow boundaries did not fit.
-TY_FUNC vec4 TY_RS(pegoraroPixel)(TY_IN(PegoraroFrame) f, int px, int py, TY_OUT(int) overflows) {
+// The radiance along the ray through the image point (x, y) in pixel coordinates: the medium radiance of every light
+// plus the reduced radiance of the surface behind (Eq. 1, 2, 8). Returns the radiance in xyz and the number of
+// closed-form evaluations that fell back to quadrature in w; `overflows` counts lights whose shadow boundaries did not
+// fit.
+TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, TY_INOUT(int) overflows) {
     vec3 sum = vec3(0.0f);
     int fallbacks = 0;
+    vec3 origin, dir;
+    cameraRay(f.camera, x, y, origin, dir);
+    BvhHit hit;
+    bool hasHit = bvhIntersect(origin, dir, 0.0f, kInfinity, hit);
+    float tEnd = hasHit ? hit.t : kInfinity;
+    // Without a hit these stay unused; they are filled so that every path initialises them.
+    SurfaceTriangle st = surfaceTriangle(hasHit ? int(hit.id) : 0);
+    SurfaceFrame frame = surfaceFrame(st, hasHit ? hit.uv : vec2(0.0f), dir);
+    MaterialParams material = surfaceMaterial(st.material);
+    vec3 xs = origin + (hasHit ? hit.t : 0.0f) * dir;
+    for (int l = 0; l < f.lightCount; ++l) {
+        PegoraroLight light = pegoraroLight(l);
+        if (f.mediumCount > 0) sum += TY_RS(pegoraroMediumRadiance)(f, light, origin, dir, tEnd, fallbacks, overflows);
+        if (!hasHit) continue;
+        // Eq. 8 and Eq. 2: direct light at the surface, attenuated on both legs.
+        vec3 toLight = light.position - xs;
+        float distance = length(toLight);
+        if (!(distance > 0.0f)) continue;
+        vec3 wi = toLight / distance;
+        vec3 reflected = surfaceReflect(material, frame, -dir, wi);
+        if (reflected == vec3(0.0f)) continue;
+        if (f.shadows != 0 && bvhOccluded(xs + f.rayOffset * frame.ng, wi, 0.0f, distance * (1.0f - 1e-4f))) continue;
+        TY_RS(PegoraroPolynomial) lp = TY_RS(pegoraroLoadPolynomial)(light.firstCoefficient, light.terms);
+        float intensity = float(pegoraroHorner(lp, TY_R(dot(-wi, light.axis))));
+        vec3 transmittance = exp(-f.sigmaT * (hit.t + distance));
+        sum += light.intensity * max(intensity, 0.0f) / (distance * distance) * transmittance * reflected;
+    }
+    return vec4(sum, float(fallbacks));
+}
+
+// Sample k of pixel (px, py): the S x S regular grid of a box filter like the reference's, k = sy * S + sx.
+TY_FUNC vec4 TY_RS(pegoraroSample)(TY_IN(PegoraroFrame) f, int px, int py, int k, TY_INOUT(int) overflows) {
+    int S = max(f.supersampling, 1);
+    int sy = k / S, sx = k - sy * S;
+    return TY_RS(pegoraroRay)(f, float(px) + (float(sx) + 0.5f) / float(S), float(py) + (float(sy) + 0.5f) / float(S),
+                              overflows);
+}
+
+// The pixel (px, py): the mean of its S x S samples (radiance in xyz) and the sum of their fallbacks (w).
+TY_FUNC vec4 TY_RS(pegoraroPixel)(TY_IN(PegoraroFrame) f, int px, int py, TY_OUT(int) overflows) {
     overflows = 0;
     int S = max(f.supersampling, 1);
-    for (int sy = 0; sy < S; ++sy) {
-        for (int sx = 0; sx < S; ++sx) {
-            vec3 origin, dir;
-            cameraRay(f.camera, float(px) + (float(sx) + 0.5f) / float(S), float(py) + (float(sy) + 0.5f) / float(S),
-                      origin, dir);
-            BvhHit hit;
-            bool hasHit = bvhIntersect(origin, dir, 0.0f, kInfinity, hit);
-            float tEnd = hasHit ? hit.t : kInfinity;
-            // Without a hit these stay unused; they are filled so that every path initialises them.
-            SurfaceTriangle st = surfaceTriangle(hasHit ? int(hit.id) : 0);
-            SurfaceFrame frame = surfaceFrame(st, hasHit ? hit.uv : vec2(0.0f), dir);
-            MaterialParams material = surfaceMaterial(st.material);
-            vec3 xs = origin + (hasHit ? hit.t : 0.0f) * dir;
-            for (int l = 0; l < f.lightCount; ++l) {
-                PegoraroLight light = pegoraroLight(l);
-                if (f.mediumCount > 0)
-                    sum += TY_RS(pegoraroMediumRadiance)(f, light, origin, dir, tEnd, fallbacks, overflows);
-                if (!hasHit) continue;
-                // Eq. 8 and Eq. 2: direct light at the surface, attenuated on both legs.
-                vec3 toLight = light.position - xs;
-                float distance = length(toLight);
-                if (!(distance > 0.0f)) continue;
-                vec3 wi = toLight / distance;
-                vec3 reflected = surfaceReflect(material, frame, -dir, wi);
-                if (reflected == vec3(0.0f)) continue;
-                if (f.shadows != 0 && bvhOccluded(xs + f.rayOffset * frame.ng, wi, 0.0f, distance * (1.0f - 1e-4f)))
-                    continue;
-                TY_RS(PegoraroPolynomial) lp = TY_RS(pegoraroLoadPolynomial)(light.firstCoefficient, light.terms);
-                float intensity = float(pegoraroHorner(lp, TY_R(dot(-wi, light.axis))));
-                vec3 transmittance = exp(-f.sigmaT * (hit.t + distance));
-                sum += light.intensity * max(intensity, 0.0f) / (distance * distance) * transmittance * reflected;
-            }
-        }
-    }
-    return vec4(sum / float(S * S), float(fallbacks));
+    vec4 sum = vec4(0.0f);
+    for (int k = 0; k < S * S; ++k)
+        sum += TY_RS(pegoraroSample)(f, px, py, k, overflows);
+    return vec4(vec3(sum) / float(S * S), sum.w);
 }
 
 TY_END

@@ -1,0 +1,326 @@
+// The Pegoraro technique end to end: its image of the example project against the reference in single-scattering
+// mode, the GPU path against the CPU path, the closed form on the GPU against the CPU (the GPU framework's harness),
+// and exact shadows against quadrature with a visibility test per sample.
+#include "closed_form_cases.h"
+
+#include "pegoraro/pegoraro.h"
+#include "pegoraro/prepared.h"
+#include "src/shader_params.h"
+
+#include "tyndall/gpu/context.h"
+#include "tyndall/gpu/harness.h"
+#include "tyndall/metrics.h"
+#include "tyndall/project.h"
+#include "tyndall/render.h"
+
+#include <gtest/gtest.h>
+
+namespace tyndall::pegoraro::test {
+namespace {
+
+const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/pegoraro-street.json";
+
+Project loadExample(int width, int height, const std::vector<std::string>& overrides = {}) {
+    std::vector<std::string> all = {"camera.width=" + std::to_string(width), "camera.height=" + std::to_string(height)};
+    all.insert(all.end(), overrides.begin(), overrides.end());
+    return loadProject(kProject, all);
+}
+
+RenderResult renderView(const Project& project, const std::string& view, std::optional<int> spp = std::nullopt) {
+    JobOptions options;
+    options.spp = spp;
+    RenderJob job = makeViewJob(project, kProject, view, options);
+    return runJob(job);
+}
+
+// Any validation error of the shared context fails the test that caused it.
+class PegoraroGpu : public ::testing::Test {
+protected:
+    void SetUp() override { before_ = gpu::sharedContext()->validationErrors().size(); }
+    void TearDown() override {
+        const std::vector<std::string> errors = gpu::sharedContext()->validationErrors();
+        for (std::size_t i = before_; i < errors.size(); ++i)
+            ADD_FAILURE() << "Vulkan validation error: " << errors[i];
+    }
+
+private:
+    std::size_t before_ = 0;
+};
+
+// relMSE of `image` against `reference` and the reference's own noise, mean(var / (r^2 + 0.01)), over every pixel
+// except the 3 x 3 blocks around the lights' projections (see below).
+struct MaskedError {
+    double relMSE = 0.0, noise = 0.0;
+};
+
+MaskedError maskedError(const Image& image, const Image& reference, const Scene& scene) {
+    const shader::CameraParams cam = toCameraParams(scene.camera);
+    std::vector<glm::ivec2> lights;
+    for (const PointLight& l : scene.pointLights) {
+        const glm::vec3 v = glm::vec3(l.position) - cam.position;
+        const float z = glm::dot(v, cam.forward);
+        const float x = glm::dot(v, cam.right) / z / (cam.tanHalfFovY * cam.aspect);
+        const float y = glm::dot(v, cam.up) / z / cam.tanHalfFovY;
+        lights.push_back(glm::ivec2(int((x + 1.0f) * 0.5f * cam.width), int((1.0f - y) * 0.5f * cam.height)));
+    }
+    const int varianceR = reference.channelIndex("variance.R");
+    MaskedError e;
+    long terms = 0;
+    for (int y = 0; y < image.height(); ++y) {
+        for (int x = 0; x < image.width(); ++x) {
+            bool nearLight = false;
+            for (const glm::ivec2& p : lights)
+                nearLight |= std::abs(p.x - x) <= 1 && std::abs(p.y - y) <= 1;
+            if (nearLight) continue;
+            for (int c = 0; c < 3; ++c) {
+                const double r = reference.at(x, y, c), d = image.at(x, y, c) - r;
+                e.relMSE += d * d / (r * r + 0.01);
+                e.noise += reference.at(x, y, varianceR + c) / (r * r + 0.01);
+                ++terms;
+            }
+        }
+    }
+    e.relMSE /= double(terms);
+    e.noise /= double(terms);
+    return e;
+}
+
+// The example project (three point lights with isotropic, spot and Legendre distributions, Rayleigh haze with
+// chromatic coefficients, diffuse and anisotropic GGX surfaces, a sphere and a wall casting volumetric shadows) at
+// 80 x 60.
+//
+// Tolerance. If the technique were exact, its error against the reference would be the reference's noise alone:
+// E[relMSE] = mean(Var[r] / (r^2 + 0.01)), estimated from the reference's variance channels (the variance of each
+// pixel's mean). The technique adds the error of integrating each pixel's footprint on a 16 x 16 grid (bounded by the
+// relMSE between its 16 x 16 and 8 x 8 images, below), and over ~14,000 terms the noise estimate itself fluctuates by a
+// few per cent. So: relMSE <= 1.5 x the reference's noise + the grid's error.
+// Excluded: the 3 x 3 pixels around each light's projection. There the radiance diverges like 1/h (h the distance
+// from the light to the ray), so every finite set of samples (the technique's grid, the reference's random samples)
+// estimates those pixels with a heavy-tailed error that the variance channels do not capture: 27 of 4800 pixels.
+// The same render without shadows (wrong by the volumetric shadows of the sphere and the wall) must exceed the bound
+// by far, which shows the test can tell.
+TEST(PegoraroTechnique, MatchesTheReferenceInSingleScattering) {
+    const Project project =
+        loadExample(80, 60,
+                    {"views[closed form].parameters.device=cpu", "views[closed form].parameters.supersampling=16",
+                     "views[closed form].parameters.precision=double"});
+    JobOptions referenceOptions;
+    referenceOptions.spp = 512;
+    referenceOptions.seed = 7;
+    RenderJob referenceJob = makeReferenceJob(project, kProject, "closed form", referenceOptions);
+    const RenderResult reference = runJob(referenceJob);
+    const RenderResult technique = renderView(project, "closed form");
+    const MaskedError e = maskedError(technique.image, reference.image, project.scene);
+    ASSERT_GT(e.noise, 0.0);
+    // The grid's own error: at least halved from S = 8 to S = 16 (edges converge like 1/S, smooth parts faster), so
+    // the S = 16 image is within |I16 - I8| of its pixel integrals.
+    const Project coarse =
+        loadExample(80, 60,
+                    {"views[closed form].parameters.device=cpu", "views[closed form].parameters.supersampling=8",
+                     "views[closed form].parameters.precision=double"});
+    const double gridError =
+        maskedError(technique.image, renderView(coarse, "closed form").image, project.scene).relMSE;
+    EXPECT_LE(e.relMSE, 1.5 * e.noise + gridError) << "reference noise " << e.noise << ", grid error " << gridError;
+    RecordProperty("gridError", std::to_string(gridError * 1e6) + "e-6");
+    EXPECT_EQ(technique.image.metadata.at("pegoraro:shadowOverflowPixels"), "0");
+    RecordProperty("relMSE", std::to_string(e.relMSE * 1e6) + "e-6");
+    RecordProperty("referenceNoise", std::to_string(e.noise * 1e6) + "e-6");
+
+    const Project unshadowed =
+        loadExample(80, 60,
+                    {"views[closed form].parameters.device=cpu", "views[closed form].parameters.supersampling=8",
+                     "views[closed form].parameters.shadows=false"});
+    const MaskedError wrong = maskedError(renderView(unshadowed, "closed form").image, reference.image, project.scene);
+    EXPECT_GT(wrong.relMSE, 4.0 * e.noise);
+}
+
+// The GPU path renders what the CPU path renders. Same shared code; differences come from the devices' float
+// arithmetic in the geometry (rays, hits, lit intervals) and, in float, from lavapipe's log/atan (expint.md). Bound:
+// relMSE <= 1e-8 and 99.5 % of pixels within 1e-4 relative (silhouette pixels may pick another triangle).
+TEST_F(PegoraroGpu, GpuPathMatchesCpuPath) {
+    // Double on the whole scene (order 12); float on the lamp alone (order 2, where float is accurate).
+    for (const std::string view : {"closed form", "lamp only"}) {
+        SCOPED_TRACE(view);
+        const std::string precision = view == "closed form" ? "double" : "float";
+        const std::string prefix = "views[" + view + "].parameters.";
+        const Project gpuProject = loadExample(48, 36, {prefix + "device=gpu", prefix + "precision=" + precision});
+        const Project cpuProject = loadExample(48, 36, {prefix + "device=cpu", prefix + "precision=" + precision});
+        const RenderResult gpuResult = renderView(gpuProject, view);
+        const RenderResult cpuResult = renderView(cpuProject, view);
+        const Image& a = gpuResult.image;
+        const Image& b = cpuResult.image;
+        const Metrics m = computeMetrics(a, b);
+        EXPECT_LE(m.relMSE, 1e-8);
+        int far = 0;
+        for (int y = 0; y < a.height(); ++y)
+            for (int x = 0; x < a.width(); ++x)
+                for (int c = 0; c < 3; ++c)
+                    if (std::abs(a.at(x, y, c) - b.at(x, y, c)) > 1e-4 * std::abs(b.at(x, y, c)) + 1e-7) ++far;
+        EXPECT_LE(far, int(0.005 * 3 * a.width() * a.height()));
+        EXPECT_NE(a.metadata.at("device"), "cpu");
+    }
+}
+
+// The closed form itself on the GPU against the CPU, through the GPU framework's harness: 2000 random configurations
+// (H, ua, ub, del) with dc = 0.6 sqrt(1 - del^2) (a valid geometry), a Rayleigh-shaped phase function and a squared
+// spot (order 4). Double: the same operations on both sides (double_math.h replaces libm). Float: lavapipe's float log
+// and atan differ from glibc's by up to 3e-6 (expint.md) and the closed form amplifies that by its cancellation, which
+// its error estimate measures: the two sides agree within the sum of their estimates.
+const char* const kHarnessBody = R"(
+    PegoraroPolynomial_REAL phase;
+    PegoraroPolynomial_REAL light;
+    phase.terms = 3;
+    light.terms = 3;
+    for (int k = 0; k < kPegoraroMaxTerms; ++k) { phase.c[k] = REAL(0); light.c[k] = REAL(0); }
+    phase.c[0] = REAL(3) / REAL(16);
+    phase.c[2] = phase.c[0];
+    light.c[0] = REAL(1) / REAL(4); light.c[1] = REAL(1) / REAL(2); light.c[2] = REAL(1) / REAL(4);
+    REAL del = REAL(x.w);
+    REAL dc = REAL(0.6f) * sqrt(REAL(1) - del * del);
+    PegoraroSeries_REAL s;
+    pegoraroSeries(del, dc, phase, light, s);
+    REAL bound;
+    REAL value = pegoraroIntegral(s, REAL(x.x), REAL(x.y), REAL(x.z), bound);
+    return VEC4(value, bound, 0, 0);
+)";
+
+template <typename Real>
+glm::vec<4, Real> closedFormOnCpu(const glm::dvec4& x) {
+    using Polynomial =
+        std::conditional_t<std::is_same_v<Real, double>, sh::PegoraroPolynomial_double, sh::PegoraroPolynomial_float>;
+    using Series =
+        std::conditional_t<std::is_same_v<Real, double>, sh::PegoraroSeries_double, sh::PegoraroSeries_float>;
+    Polynomial phase{}, light{};
+    phase.terms = light.terms = 3;
+    phase.c[0] = phase.c[2] = Real(3) / Real(16);
+    light.c[0] = Real(0.25);
+    light.c[1] = Real(0.5);
+    light.c[2] = Real(0.25);
+    const Real del = Real(x.w);
+    const Real dc = Real(0.6f) * std::sqrt(Real(1) - del * del);
+    Series s;
+    sh::pegoraroSeries(del, dc, phase, light, s);
+    Real bound;
+    const Real value = sh::pegoraroIntegral(s, Real(x.x), Real(x.y), Real(x.z), bound);
+    return {value, bound, 0, 0};
+}
+
+std::string harnessBody(const std::string& real, const std::string& vec4) {
+    std::string body = kHarnessBody;
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"REAL", real}, {"VEC4", vec4}}) {
+        for (std::size_t at = body.find(from); at != std::string::npos; at = body.find(from, at + to.size()))
+            body.replace(at, from.size(), to);
+    }
+    return body;
+}
+
+TEST_F(PegoraroGpu, ClosedFormOnTheGpuMatchesTheCpu) {
+    gpu::Context& context = *gpu::sharedContext();
+    sh::Pcg32 rng = sh::pcg32Seed(99u, 4u);
+    std::vector<glm::dvec4> inputs;
+    for (int i = 0; i < 2000; ++i) {
+        const auto u = [&] { return double(sh::pcg32NextFloat(rng)); };
+        const double H = 1e-3 * std::pow(2e4, u());
+        const double ua = 20.0 * u() - 10.0;
+        const double ub = u() < 0.2 ? 1e30 : ua + 0.01 + 10.0 * u();
+        inputs.push_back({H, ua, ub, 2.0 * u() - 1.0});
+    }
+    const std::string prelude = "#define TY_ENABLE_DOUBLE\n#include \"shared/pegoraro.h\"\n";
+    if (context.device().shaderFloat64) {
+        const std::vector<glm::dvec4> gpuOut =
+            gpu::evaluateOnGpuDouble(context, prelude, harnessBody("double", "dvec4"), inputs);
+        const gpu::HarnessReport report = gpu::compareWithCpu(inputs, gpuOut, closedFormOnCpu<double>, 1e-300);
+        EXPECT_EQ(report.nonFiniteMismatches, 0u);
+        // KNOWN ISSUE (issue #5 note): lavapipe's double results differ from the CPU's by a systematic ~1.4e-8
+        // relative on every input, where the same code should agree to ~1e-14; the cause is not found yet. The bound
+        // is 5e-8 so that anything larger fails, and must come down to 1e-12 once the cause is fixed.
+        for (std::size_t i = 0; i < inputs.size(); ++i) {
+            const glm::dvec4 cpu = closedFormOnCpu<double>(inputs[i]);
+            EXPECT_NEAR(gpuOut[i].x, cpu.x, gpuOut[i].y + cpu.y + 5e-8 * std::abs(cpu.x)) << "input " << i;
+        }
+    }
+    std::vector<glm::vec4> inputsF;
+    for (const glm::dvec4& x : inputs)
+        inputsF.push_back(glm::vec4(x.x, x.y, std::min(x.z, 1e30), x.w));
+    const std::vector<glm::vec4> gpuOutF =
+        gpu::evaluateOnGpu(context, "#include \"shared/pegoraro.h\"\n", harnessBody("float", "vec4"), inputsF);
+    const gpu::HarnessReport reportF = gpu::compareWithCpu(
+        inputsF, gpuOutF, [](const glm::vec4& x) { return closedFormOnCpu<float>(glm::dvec4(x)); }, 1e-30);
+    // Each side's value is within its own error estimate of the truth, so they agree within the sum of both.
+    for (std::size_t i = 0; i < inputsF.size(); ++i) {
+        const glm::vec4 cpu = closedFormOnCpu<float>(glm::dvec4(inputsF[i]));
+        EXPECT_NEAR(gpuOutF[i].x, cpu.x, gpuOutF[i].y + cpu.y + 1e-6f * std::abs(cpu.x) + 1e-30f) << "input " << i;
+    }
+    EXPECT_EQ(reportF.nonFiniteMismatches, 0u);
+}
+
+// Exact shadows: the medium radiance of every light along random camera rays of the example project (a sphere and a
+// wall cast shadows into the haze) against quadrature of Eq. 3 with a visibility test per sample. The quadrature is
+// the midpoint rule with 40,000 nodes in the angle theta = atan((x - xh) / h), in which the integrand is bounded; each
+// shadow boundary costs it at most one node's width (~4e-5 of the range) times the jump, so it is good to ~2e-4
+// relative; the bound is 1e-3.
+TEST(PegoraroTechnique, ShadowedIntervalsMatchQuadratureWithVisibility) {
+    const Project project = loadExample(64, 48);
+    const Settings settings = settingsFrom(createTechnique("pegoraro")->defaultParams());
+    const PreparedScene scene = prepareScene(project.scene, settings, TYNDALL_SOURCE_DIR "/projects/examples");
+    SceneScope scope(scene);
+    const shader::PegoraroFrame& f = scene.frame;
+    sh::Pcg32 rng = sh::pcg32Seed(8u, 8u);
+    int tested = 0, shadowedRays = 0;
+    for (int ray = 0; ray < 120; ++ray) {
+        glm::vec3 origin, dir;
+        sh::cameraRay(f.camera, 64.0f * sh::pcg32NextFloat(rng), 48.0f * sh::pcg32NextFloat(rng), origin, dir);
+        sh::BvhHit hit;
+        const bool hasHit = sh::bvhIntersect(origin, dir, 0.0f, sh::kInfinity, hit);
+        const float tEnd = hasHit ? hit.t : sh::kInfinity;
+        for (int l = 0; l < f.lightCount; ++l) {
+            const sh::PegoraroLight light = sh::pegoraroLight(l);
+            int fallbacks = 0, overflows = 0;
+            const glm::vec3 closed =
+                sh::pegoraroMediumRadiance_double(f, light, origin, dir, tEnd, fallbacks, overflows);
+            ASSERT_EQ(overflows, 0);
+
+            const glm::dvec3 o(origin), d(dir), pl(light.position), axis(light.axis);
+            const double xh = glm::dot(pl - o, d);
+            const double h = glm::length(o + xh * d - pl);
+            const sh::PegoraroMedium medium = sh::pegoraroMedium(0);
+            const sh::PegoraroPolynomial_double phase =
+                sh::pegoraroLoadPolynomial_double(medium.firstCoefficient, medium.terms);
+            const sh::PegoraroPolynomial_double lightPoly =
+                sh::pegoraroLoadPolynomial_double(light.firstCoefficient, light.terms);
+            const double thetaA = std::atan2(-xh, h);
+            const double thetaB = hasHit ? std::atan2(double(tEnd) - xh, h) : 0.5 * 3.14159265358979323846;
+            const int nodes = 40000;
+            glm::dvec3 sum(0.0);
+            int occludedNodes = 0;
+            for (int i = 0; i < nodes; ++i) {
+                const double theta = thetaA + (thetaB - thetaA) * (i + 0.5) / nodes;
+                const double x = xh + h * std::tan(theta);
+                const glm::dvec3 p = o + x * d;
+                const glm::dvec3 fromLight = p - pl;
+                const double dist = glm::length(fromLight);
+                if (sh::bvhOccluded(glm::vec3(pl), glm::vec3(fromLight), 0.0f, 1.0f)) {
+                    ++occludedNodes;
+                    continue;
+                }
+                const glm::dvec3 w = fromLight / dist;
+                const double value =
+                    sh::pegoraroHorner(phase, glm::dot(w, -d)) * sh::pegoraroHorner(lightPoly, glm::dot(w, axis));
+                sum += glm::exp(-glm::dvec3(f.sigmaT) * (x + dist)) * value;
+            }
+            const glm::dvec3 expected =
+                glm::dvec3(medium.sigmaS) * glm::dvec3(light.intensity) * sum * (thetaB - thetaA) / double(nodes) / h;
+            if (occludedNodes > 0) ++shadowedRays;
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(closed[c], expected[c], 1e-3 * expected[c] + 1e-9)
+                    << "ray " << ray << ", light " << l << ", channel " << c << ", occluded nodes " << occludedNodes;
+            ++tested;
+        }
+    }
+    EXPECT_GT(shadowedRays, 10);  // the test must see shadows
+    RecordProperty("shadowedRays", shadowedRays);
+    RecordProperty("tested", tested);
+}
+
+}  // namespace
+}  // namespace tyndall::pegoraro::test
