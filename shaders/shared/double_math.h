@@ -10,6 +10,8 @@
 // rounded to 24 bits) and C++ rejects it; glslang's ## only pastes identifiers and operators, so x##lf is not an
 // option. Hence:
 //  - TY_DOUBLE(x): only for literals exactly representable as a float (0.5, 710.0); GLSL converts them exactly.
+//    Beware double(0.6f) with a literal that is not: glslang folds it to the decimal value (0.6 in double), C++ to the
+//    float's value (0.6000000238...), so the two sides differ by ~1e-8. Write such constants as ratios (3.0 / 5.0).
 //  - Rational constants (Taylor coefficients) are written as double(p) / double(q), folded at compile time and
 //    correctly rounded on both sides.
 //  - Irrational constants are written by their bits, TY_DOUBLE_BITS(high word, low word), with the decimal value in
