@@ -4,13 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <sys/wait.h>
 
 namespace fs = std::filesystem;
 
@@ -27,13 +27,16 @@ CliRun tyndall(const std::string& args) {
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return run;
     std::array<char, 4096> buffer{};
-    while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) run.output.append(buffer.data(), n);
+    while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe))
+        run.output.append(buffer.data(), n);
     int status = pclose(pipe);
     run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return run;
 }
 
-std::string source(const std::string& relative) { return std::string(TYNDALL_SOURCE_DIR) + "/" + relative; }
+std::string source(const std::string& relative) {
+    return std::string(TYNDALL_SOURCE_DIR) + "/" + relative;
+}
 
 fs::path scratch(const std::string& name) {
     fs::path dir = fs::path(TYNDALL_TEST_TMP) / "cli" / name;
@@ -91,8 +94,8 @@ TEST(Cli, EveryBundledProjectRoundTripsExactly) {
 TEST(Cli, RendersTheDefaultProjectsReferenceWithMetadata) {
     fs::path dir = scratch("render");
     std::string exr = (dir / "ref.exr").string(), png = (dir / "ref.png").string();
-    CliRun r = tyndall("render '" + source("projects/default.json") + "' --reference --size 32x24 --spp 4 --seed 7 -o '" +
-                    exr + "' -o '" + png + "'");
+    CliRun r = tyndall("render '" + source("projects/default.json") +
+                       "' --reference --size 32x24 --spp 4 --seed 7 -o '" + exr + "' -o '" + png + "'");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("wrote"), std::string::npos);
     ASSERT_TRUE(fs::exists(png));
@@ -110,7 +113,8 @@ TEST(Cli, RendersTheDefaultProjectsReferenceWithMetadata) {
     // The image is not black: the room is lit.
     double sum = 0.0;
     for (int y = 0; y < image.height(); ++y)
-        for (int x = 0; x < image.width(); ++x) sum += image.at(x, y, 0) + image.at(x, y, 1) + image.at(x, y, 2);
+        for (int x = 0; x < image.width(); ++x)
+            sum += image.at(x, y, 0) + image.at(x, y, 1) + image.at(x, y, 2);
     EXPECT_GT(sum, 0.0);
 }
 
@@ -139,14 +143,18 @@ TEST(Cli, BadInputExitsWithTwoAndSaysWhy) {
     struct Case {
         std::string args, expected;
     };
-    std::string malformed = writeFile(dir / "malformed.json", "{\n  \"tyndall\": 1,\n  \"camera\": {\n    \"fovY\": ,\n  }\n}\n");
+    std::string malformed =
+        writeFile(dir / "malformed.json", "{\n  \"tyndall\": 1,\n  \"camera\": {\n    \"fovY\": ,\n  }\n}\n");
     const Case cases[] = {
-        {"render '" + project + "' --reference --size 1000000x1000000 -o '" + (dir / "huge.exr").string() + "'", "camera"},
-        {"render '" + project + "' --reference --spp 1 -o '" + (dir / "missing/ref.exr").string() + "'", "does not exist"},
+        {"render '" + project + "' --reference --size 1000000x1000000 -o '" + (dir / "huge.exr").string() + "'",
+         "camera"},
+        {"render '" + project + "' --reference --spp 1 -o '" + (dir / "missing/ref.exr").string() + "'",
+         "does not exist"},
         {"render '" + project + "' --reference --spp 1 -o '" + (dir / "ref.tiff").string() + "'", ".exr or .png"},
         {"render '" + project + "' --view nope -o '" + (dir / "v.exr").string() + "'", "no view named 'nope'"},
         {"render '" + project + "' --reference --set 'camera.fovy=40' -o '" + (dir / "s.exr").string() + "'", "fovY"},
-        {"render '" + project + "' --reference --set 'media[0].sigma_s=[-1,0,0]' -o '" + (dir / "n.exr").string() + "'", "sigma_s"},
+        {"render '" + project + "' --reference --set 'media[0].sigma_s=[-1,0,0]' -o '" + (dir / "n.exr").string() + "'",
+         "sigma_s"},
         {"validate '" + malformed + "'", "malformed.json:4:"},
         {"validate '" + (dir / "absent.json").string() + "'", "absent.json"},
         {"render --frobnicate", ""},
@@ -158,8 +166,47 @@ TEST(Cli, BadInputExitsWithTwoAndSaysWhy) {
         EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
     }
     // Nothing was written for the refused renders.
-    for (const char* name : {"huge.exr", "ref.tiff", "v.exr", "s.exr", "n.exr"}) EXPECT_FALSE(fs::exists(dir / name)) << name;
+    for (const char* name : {"huge.exr", "ref.tiff", "v.exr", "s.exr", "n.exr"})
+        EXPECT_FALSE(fs::exists(dir / name)) << name;
     EXPECT_FALSE(fs::exists(dir / "missing"));
+}
+
+// The Pegoraro example renders on both paths with its report in the metadata; what the technique cannot render, or a
+// parameter value it does not know, is refused with exit code 2 and a reason.
+TEST(Cli, RendersThePegoraroExampleAndRefusesWhatItCannotRender) {
+    fs::path dir = scratch("pegoraro");
+    const std::string project = source("projects/examples/pegoraro-street.json");
+    for (const std::string device : {"cpu", "gpu"}) {
+        const std::string exr = (dir / ("street-" + device + ".exr")).string();
+        CliRun r = tyndall("render '" + project + "' --view 'closed form' --size 24x18 --set " +
+                           "'views[closed form].parameters.device=" + device + "' -o '" + exr + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        tyndall::Image image = tyndall::readImage(exr);
+        EXPECT_EQ(image.metadata.at("technique"), "pegoraro");
+        EXPECT_EQ(image.metadata.at("pegoraro:precision"), "double");  // order 12 > 4
+        EXPECT_EQ(image.metadata.at("pegoraro:shadowOverflowPixels"), "0");
+        EXPECT_GE(image.channelIndex("fallbacks"), 0);
+        if (device == "cpu")
+            EXPECT_EQ(image.metadata.at("device"), "cpu");
+        else
+            EXPECT_NE(image.metadata.at("device"), "cpu");
+        double sum = 0.0;
+        for (int y = 0; y < image.height(); ++y)
+            for (int x = 0; x < image.width(); ++x)
+                sum += image.at(x, y, 0);
+        EXPECT_GT(sum, 0.0);
+    }
+    const std::string out = (dir / "refused.exr").string();
+    // A view that names the medium (a view without a part takes what its technique supports).
+    CliRun boxed = tyndall("render '" + project + "' --view 'spot only' --size 8x6 --set 'media[haze].shape=box' -o '" +
+                           out + "'");
+    EXPECT_EQ(boxed.exitCode, 2) << boxed.output;
+    EXPECT_NE(boxed.output.find("infinite medium"), std::string::npos) << boxed.output;
+    CliRun precision = tyndall("render '" + project + "' --view 'closed form' --size 8x6 --set " +
+                               "'views[closed form].parameters.precision=quad' -o '" + out + "'");
+    EXPECT_EQ(precision.exitCode, 2) << precision.output;
+    EXPECT_NE(precision.output.find("double"), std::string::npos) << precision.output;
+    EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(Cli, CompareWritesMetricsAndADifferenceImage) {
@@ -167,10 +214,12 @@ TEST(Cli, CompareWritesMetricsAndADifferenceImage) {
     std::string project = source("projects/default.json");
     std::string ref = (dir / "ref.exr").string(), img = (dir / "img.exr").string();
     ASSERT_EQ(tyndall("render '" + project + "' --reference --size 24x18 --spp 16 -o '" + ref + "'").exitCode, 0);
-    ASSERT_EQ(tyndall("render '" + project + "' --reference --size 24x18 --spp 2 --seed 9 -o '" + img + "'").exitCode, 0);
-    std::string json = (dir / "m.json").string(), csv = (dir / "m.csv").string(), diff = (dir / "{name}-diff.png").string();
+    ASSERT_EQ(tyndall("render '" + project + "' --reference --size 24x18 --spp 2 --seed 9 -o '" + img + "'").exitCode,
+              0);
+    std::string json = (dir / "m.json").string(), csv = (dir / "m.csv").string(),
+                diff = (dir / "{name}-diff.png").string();
     CliRun r = tyndall("compare '" + img + "' '" + ref + "' -r '" + ref + "' --json '" + json + "' --csv '" + csv +
-                    "' --diff '" + diff + "'");
+                       "' --diff '" + diff + "'");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     EXPECT_NE(r.output.find("reference noise"), std::string::npos);
     ASSERT_TRUE(fs::exists(json));

@@ -26,7 +26,8 @@ namespace {
 std::vector<Case> cases(int order) {
     sh::Pcg32 rng = sh::pcg32Seed(42u, std::uint32_t(order));
     std::vector<Case> out;
-    for (int i = 0; i < 256; ++i) out.push_back(randomCase(rng, order, 1e-2, 20.0, 20.0));
+    for (int i = 0; i < 256; ++i)
+        out.push_back(randomCase(rng, order, 1e-2, 20.0, 20.0));
     return out;
 }
 
@@ -41,9 +42,7 @@ void BM_ClosedFormCpu(benchmark::State& state) {
     }
     state.SetLabel(useDouble ? "double" : "float");
 }
-BENCHMARK(BM_ClosedFormCpu)
-    ->ArgsProduct({{0, 1, 2, 4, 8, 12, 16, 24, 32}, {0, 1}})
-    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ClosedFormCpu)->ArgsProduct({{0, 1, 2, 4, 8, 12, 16, 24, 32}, {0, 1}})->Unit(benchmark::kMicrosecond);
 
 void BM_QuadratureCpu(benchmark::State& state) {
     const int order = int(state.range(0));
@@ -68,7 +67,8 @@ Scene mediumOnlyScene(int order) {
     m.sigma_s = Rgb(0.1, 0.12, 0.15);
     m.sigma_a = Rgb(0.01);
     m.phase.kind = PhaseKind::Legendre;
-    for (int n = 0; n <= order; ++n) m.phase.legendre.push_back((2.0 * n + 1.0) * std::pow(0.5, n));
+    for (int n = 0; n <= order; ++n)
+        m.phase.legendre.push_back((2.0 * n + 1.0) * std::pow(0.5, n));
     scene.media.push_back(m);
     PointLight l;
     l.name = "lamp";
@@ -84,6 +84,7 @@ void BM_TechniqueGpu(benchmark::State& state) {
     RenderRequest request;
     request.scene = mediumOnlyScene(order);
     request.params = technique->defaultParams();
+    request.params.set("device", std::string("gpu"));
     request.params.set("supersampling", std::int64_t(1));
     request.params.set("shadows", false);
     request.params.set("hgTerms", std::int64_t(1));

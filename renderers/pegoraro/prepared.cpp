@@ -37,7 +37,8 @@ int appendCoefficients(std::vector<glm::vec2>& out, const std::vector<double>& c
 
 Settings settingsFrom(const ParamSet& params) {
     Settings s;
-    s.gpu = params.getEnum("device") == "gpu";
+    const std::string& device = params.getEnum("device");
+    s.device = device == "gpu" ? Device::Gpu : device == "cpu" ? Device::Cpu : Device::Auto;
     const std::string& precision = params.getEnum("precision");
     s.precision = precision == "double" ? Precision::Double : precision == "float" ? Precision::Float : Precision::Auto;
     s.supersampling = int(params.getInt("supersampling"));

@@ -19,8 +19,10 @@ namespace tyndall::pegoraro {
 enum class Precision { Auto, Float, Double };
 inline constexpr int kAutoFloatMaxOrder = 4;
 
+enum class Device { Auto, Gpu, Cpu };
+
 struct Settings {
-    bool gpu = true;
+    Device device = Device::Auto;
     Precision precision = Precision::Auto;
     int supersampling = 2;
     bool shadows = true;
