@@ -35,10 +35,11 @@ int roundTerms(int terms) {
 
 GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
 
-gpu::ComputeKernel& GpuRenderer::kernel(int maxTerms, bool useDouble) {
+gpu::ComputeKernel& GpuRenderer::kernel(int maxTerms, bool useDouble, bool shadows) {
     const int terms = roundTerms(maxTerms);
     const bool words = context_->device().shaderFloat64;
-    const std::string key = std::to_string(terms) + (useDouble ? "d" : "f") + (words ? "w" : "s");
+    const std::string key =
+        std::to_string(terms) + (useDouble ? "d" : "f") + (words ? "w" : "s") + (shadows ? "" : "-noshadows");
     auto it = kernels_.find(key);
     if (it != kernels_.end()) return *it->second;
 
@@ -51,6 +52,7 @@ gpu::ComputeKernel& GpuRenderer::kernel(int maxTerms, bool useDouble) {
     std::string defines = "#define TY_PEGORARO_MAX_TERMS " + std::to_string(terms) + "\n";
     if (useDouble) defines += "#define TY_ENABLE_DOUBLE\n";
     if (words) defines += "#define TY_BVH_WORDS\n";
+    if (!shadows) defines += "#define TY_PEGORARO_NO_SHADOWS\n";
     const std::size_t lineEnd = source.find('\n');
     source.insert(lineEnd + 1, defines + "#line 2\n");
     gpu::CompileResult compiled = gpu::compileGlslSource(source, shaderPath(), gpu::ShaderStage::Compute);
@@ -67,7 +69,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
                          "the GPU '" + context_->device().name +
                              "' has no double precision (shaderFloat64); use precision = float or device = cpu");
     const auto compileStart = std::chrono::steady_clock::now();
-    gpu::ComputeKernel& k = kernel(scene.maxTerms, useDouble);
+    gpu::ComputeKernel& k = kernel(scene.maxTerms, useDouble, scene.frame.shadows != 0);
     const double compileSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - compileStart).count();
     gpu::Context& ctx = *context_;

@@ -35,7 +35,7 @@ public:
     gpu::Context& context() { return *context_; }
 
 private:
-    gpu::ComputeKernel& kernel(int maxTerms, bool useDouble);
+    gpu::ComputeKernel& kernel(int maxTerms, bool useDouble, bool shadows);
 
     std::shared_ptr<gpu::Context> context_;
     std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels_;  // by variant

@@ -55,6 +55,7 @@ TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(Pegorar
     LitIntervals lit;
     int pieces = 1;
     lit.pieces[0] = vec2(0.0f, tEnd);
+#ifndef TY_PEGORARO_NO_SHADOWS  // a GPU variant without them is much faster on lavapipe, even with shadows == 0
     if (f.shadows != 0) {
         float tNear = min(tEnd, pegoraroBoxExit(origin, dir, f.boundsMin, f.boundsMax));
         float sigmaMin = max(min(f.sigmaT.x, min(f.sigmaT.y, f.sigmaT.z)), 1e-30f);
@@ -91,6 +92,7 @@ TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(Pegorar
             lit.pieces[0] = vec2(0.0f, tEnd);
         }
     }
+#endif
 
     TY_RS(PegoraroPolynomial) lightPolynomial = TY_RS(pegoraroLoadPolynomial)(light.firstCoefficient, light.terms);
     bool grey = f.sigmaT.x == f.sigmaT.y && f.sigmaT.x == f.sigmaT.z;
@@ -149,7 +151,9 @@ TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, TY_INO
         vec3 wi = toLight / distance;
         vec3 reflected = surfaceReflect(material, frame, -dir, wi);
         if (reflected == vec3(0.0f)) continue;
+#ifndef TY_PEGORARO_NO_SHADOWS
         if (f.shadows != 0 && bvhOccluded(xs + f.rayOffset * frame.ng, wi, 0.0f, distance * (1.0f - 1e-4f))) continue;
+#endif
         TY_RS(PegoraroPolynomial) lp = TY_RS(pegoraroLoadPolynomial)(light.firstCoefficient, light.terms);
         float intensity = float(pegoraroHorner(lp, TY_R(dot(-wi, light.axis))));
         vec3 transmittance = exp(-f.sigmaT * (hit.t + distance));
