@@ -26,12 +26,13 @@ std::vector<ParamInfo> PegoraroTechnique::parameters() const {
     std::vector<ParamInfo> p;
     p.push_back({"device",
                  ParamType::Enum,
-                 "Where the closed form runs: the GPU (Vulkan compute) or the CPU",
+                 "Where the closed form runs: the GPU (Vulkan compute) or the CPU; auto takes the GPU unless the only "
+                 "Vulkan device is a software one (lavapipe), where the CPU path is faster",
                  "",
                  0,
                  0,
-                 std::string("gpu"),
-                 {"gpu", "cpu"}});
+                 std::string("auto"),
+                 {"auto", "gpu", "cpu"}});
     p.push_back({"precision",
                  ParamType::Enum,
                  "Arithmetic of the closed form: float is fast and good to ~1e-5 up to order 4; double to ~1e-10 up to "
