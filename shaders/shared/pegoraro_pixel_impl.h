@@ -36,7 +36,8 @@ TY_FUNC TY_R pegoraroChannel(TY_IN(PegoraroFrame) f, TY_IN(TY_RS(PegoraroSeries)
 
 // Eq. 3-7 summed over the lit parts of origin + t dir, t in [0, tEnd] (tEnd >= kInfinity: the ray never ends), for
 // one light and every medium: the medium radiance arriving at the origin.
-TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(PegoraroLight) light, TY_IN(vec3) origin,
+TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(PegoraroLight) light,
+                                           TY_IN(TY_RS(PegoraroPolynomial)) lightPolynomial, TY_IN(vec3) origin,
                                            TY_IN(vec3) dir, float tEnd, TY_INOUT(int) fallbacks,
                                            TY_INOUT(int) overflows) {
     TY_R3 o = TY_R3(origin), d = TY_R3(dir), pl = TY_R3(light.position), axis = TY_R3(light.axis);
@@ -48,53 +49,13 @@ TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(Pegorar
     TY_R del = dot(d, axis);
     TY_R dc = dot(foot - pl, axis) / h;
 
-    // The lit parts of the ray: exact lit intervals inside the bounds of the triangles (with float precision relative
-    // to that length), then again, more coarsely, up to where the camera's transmittance falls below e^-40 (points
-    // outside the bounds can still see the light through them); beyond that the ray counts as lit, a tail below 1e-17
-    // of the radiance.
     LitIntervals lit;
     int pieces = 1;
     lit.pieces[0] = vec2(0.0f, tEnd);
 #ifndef TY_PEGORARO_NO_SHADOWS  // a GPU variant without them is much faster on lavapipe, even with shadows == 0
-    if (f.shadows != 0) {
-        float tNear = min(tEnd, pegoraroBoxExit(origin, dir, f.boundsMin, f.boundsMax));
-        float sigmaMin = max(min(f.sigmaT.x, min(f.sigmaT.y, f.sigmaT.z)), 1e-30f);
-        float tFar = min(tEnd, max(tNear, 40.0f / sigmaMin));
-        pieces = tNear > 0.0f ? litIntervals(light.position, origin, dir, 0.0f, tNear, lit) : 0;
-        if (pieces != kLitOverflow && tFar > tNear) {
-            LitIntervals far;
-            int farPieces = litIntervals(light.position, origin, dir, tNear, tFar, far);
-            for (int i = 0; i < farPieces && pieces != kLitOverflow; ++i) {
-                if (pieces > 0 && lit.pieces[pieces - 1].y >= far.pieces[i].x) {
-                    lit.pieces[pieces - 1].y = far.pieces[i].y;  // continues across tNear
-                } else if (pieces < kMaxLitIntervals) {
-                    lit.pieces[pieces] = far.pieces[i];
-                    ++pieces;
-                } else {
-                    pieces = kLitOverflow;
-                }
-            }
-            if (farPieces == kLitOverflow) pieces = kLitOverflow;
-        }
-        if (pieces != kLitOverflow && tEnd > tFar) {
-            if (pieces > 0 && lit.pieces[pieces - 1].y >= tFar) {
-                lit.pieces[pieces - 1].y = tEnd;
-            } else if (pieces < kMaxLitIntervals) {
-                lit.pieces[pieces] = vec2(tFar, tEnd);
-                ++pieces;
-            } else {
-                pieces = kLitOverflow;
-            }
-        }
-        if (pieces == kLitOverflow) {
-            ++overflows;  // more shadow boundaries than fit: unshadowed, and reported
-            pieces = 1;
-            lit.pieces[0] = vec2(0.0f, tEnd);
-        }
-    }
+    if (f.shadows != 0) pieces = pegoraroLitPieces(f, light, origin, dir, tEnd, lit, overflows);
 #endif
 
-    TY_RS(PegoraroPolynomial) lightPolynomial = TY_RS(pegoraroLoadPolynomial)(light.firstCoefficient, light.terms);
     bool grey = f.sigmaT.x == f.sigmaT.y && f.sigmaT.x == f.sigmaT.z;
     for (int m = 0; m < f.mediumCount; ++m) {
         PegoraroMedium medium = pegoraroMedium(m);
@@ -142,7 +103,9 @@ TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, TY_INO
     vec3 xs = origin + (hasHit ? hit.t : 0.0f) * dir;
     for (int l = 0; l < f.lightCount; ++l) {
         PegoraroLight light = pegoraroLight(l);
-        if (f.mediumCount > 0) sum += TY_RS(pegoraroMediumRadiance)(f, light, origin, dir, tEnd, fallbacks, overflows);
+        TY_RS(PegoraroPolynomial) lightPolynomial = TY_RS(pegoraroLoadPolynomial)(light.firstCoefficient, light.terms);
+        if (f.mediumCount > 0)
+            sum += TY_RS(pegoraroMediumRadiance)(f, light, lightPolynomial, origin, dir, tEnd, fallbacks, overflows);
         if (!hasHit) continue;
         // Eq. 8 and Eq. 2: direct light at the surface, attenuated on both legs.
         vec3 toLight = light.position - xs;
@@ -154,8 +117,7 @@ TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, TY_INO
 #ifndef TY_PEGORARO_NO_SHADOWS
         if (f.shadows != 0 && bvhOccluded(xs + f.rayOffset * frame.ng, wi, 0.0f, distance * (1.0f - 1e-4f))) continue;
 #endif
-        TY_RS(PegoraroPolynomial) lp = TY_RS(pegoraroLoadPolynomial)(light.firstCoefficient, light.terms);
-        float intensity = float(pegoraroHorner(lp, TY_R(dot(-wi, light.axis))));
+        float intensity = float(pegoraroHorner(lightPolynomial, TY_R(dot(-wi, light.axis))));
         vec3 transmittance = exp(-f.sigmaT * (hit.t + distance));
         sum += light.intensity * max(intensity, 0.0f) / (distance * distance) * transmittance * reflected;
     }

@@ -87,6 +87,48 @@ TY_FUNC float pegoraroBoxExit(TY_IN(vec3) origin, TY_IN(vec3) dir, TY_IN(vec3) l
     return tNear <= tFar ? tFar : 0.0f;
 }
 
+#ifndef TY_PEGORARO_NO_SHADOWS
+// Appends the lit piece p to the first `pieces` of `lit`, merged with the last one when they touch; kLitOverflow when
+// there is no room.
+TY_FUNC int pegoraroAppendPiece(TY_IN(vec2) p, int pieces, TY_INOUT(LitIntervals) lit) {
+    if (pieces == kLitOverflow) return pieces;
+    if (pieces > 0 && lit.pieces[pieces - 1].y >= p.x) {
+        lit.pieces[pieces - 1].y = p.y;
+        return pieces;
+    }
+    if (pieces == kMaxLitIntervals) return kLitOverflow;
+    lit.pieces[pieces] = p;
+    return pieces + 1;
+}
+
+// The lit parts of origin + t dir, t in [0, tEnd], for a light: exact lit intervals inside the bounds of the
+// triangles (with float precision relative to that length), then again, more coarsely, up to where the camera's
+// transmittance falls below e^-40 (points outside the bounds can still see the light through them); beyond that the
+// ray counts as lit, a tail below 1e-17 of the radiance. A ray whose pieces do not fit counts as unshadowed and
+// increments `overflows`. Returns the number of pieces.
+TY_FUNC int pegoraroLitPieces(TY_IN(PegoraroFrame) f, TY_IN(PegoraroLight) light, TY_IN(vec3) origin, TY_IN(vec3) dir,
+                              float tEnd, TY_OUT(LitIntervals) lit, TY_INOUT(int) overflows) {
+    float tNear = min(tEnd, pegoraroBoxExit(origin, dir, f.boundsMin, f.boundsMax));
+    float sigmaMin = max(min(f.sigmaT.x, min(f.sigmaT.y, f.sigmaT.z)), 1e-30f);
+    float tFar = min(tEnd, max(tNear, 40.0f / sigmaMin));
+    int pieces = tNear > 0.0f ? litIntervals(light.position, origin, dir, 0.0f, tNear, lit) : 0;
+    if (pieces != kLitOverflow && tFar > tNear) {
+        LitIntervals far;
+        int farPieces = litIntervals(light.position, origin, dir, tNear, tFar, far);
+        if (farPieces == kLitOverflow) pieces = kLitOverflow;
+        for (int i = 0; i < farPieces && pieces != kLitOverflow; ++i)
+            pieces = pegoraroAppendPiece(far.pieces[i], pieces, lit);
+    }
+    if (tEnd > tFar) pieces = pegoraroAppendPiece(vec2(tFar, tEnd), pieces, lit);
+    if (pieces == kLitOverflow) {
+        ++overflows;
+        pieces = 1;
+        lit.pieces[0] = vec2(0.0f, tEnd);
+    }
+    return pieces;
+}
+#endif
+
 TY_END
 
 #define TY_R float

@@ -108,7 +108,7 @@ TEST(PegoraroClosedForm, MatchesQuadratureOfEquation3) {
         EXPECT_LE(error, 1e-6) << "trial " << trial << ", order " << order << ", H = " << c.H << ", ua = " << c.ua
                                << ", ub = " << c.ub << ": " << r.value << " vs " << expected;
     }
-    RecordProperty("worstRelativeError", std::to_string(worst));
+    RecordProperty("worstRelativeError", std::to_string(worst * 1e12) + "e-12");
 }
 
 // Wherever the closed form is off by more than the fallback tolerance, its error bound says so (no missed fallback),

@@ -257,6 +257,10 @@ TEST_F(PegoraroGpu, ClosedFormOnTheGpuMatchesTheCpu) {
     EXPECT_EQ(reportF.nonFiniteMismatches, 0u);
 }
 
+sh::PegoraroPolynomial_double lightPolynomialOf(const sh::PegoraroLight& light) {
+    return sh::pegoraroLoadPolynomial_double(light.firstCoefficient, light.terms);
+}
+
 // Exact shadows: the medium radiance of every light along random camera rays of the example project (a sphere and a
 // wall cast shadows into the haze) against quadrature of Eq. 3 with a visibility test per sample. The quadrature is
 // the midpoint rule with 40,000 nodes in the angle theta = atan((x - xh) / h), in which the integrand is bounded; each
@@ -279,8 +283,8 @@ TEST(PegoraroTechnique, ShadowedIntervalsMatchQuadratureWithVisibility) {
         for (int l = 0; l < f.lightCount; ++l) {
             const sh::PegoraroLight light = sh::pegoraroLight(l);
             int fallbacks = 0, overflows = 0;
-            const glm::vec3 closed =
-                sh::pegoraroMediumRadiance_double(f, light, origin, dir, tEnd, fallbacks, overflows);
+            const glm::vec3 closed = sh::pegoraroMediumRadiance_double(f, light, lightPolynomialOf(light), origin, dir,
+                                                                       tEnd, fallbacks, overflows);
             ASSERT_EQ(overflows, 0);
 
             const glm::dvec3 o(origin), d(dir), pl(light.position), axis(light.axis);
@@ -289,8 +293,7 @@ TEST(PegoraroTechnique, ShadowedIntervalsMatchQuadratureWithVisibility) {
             const sh::PegoraroMedium medium = sh::pegoraroMedium(0);
             const sh::PegoraroPolynomial_double phase =
                 sh::pegoraroLoadPolynomial_double(medium.firstCoefficient, medium.terms);
-            const sh::PegoraroPolynomial_double lightPoly =
-                sh::pegoraroLoadPolynomial_double(light.firstCoefficient, light.terms);
+            const sh::PegoraroPolynomial_double lightPoly = lightPolynomialOf(light);
             const double thetaA = std::atan2(-xh, h);
             const double thetaB = hasHit ? std::atan2(double(tEnd) - xh, h) : 0.5 * 3.14159265358979323846;
             const int nodes = 40000;
