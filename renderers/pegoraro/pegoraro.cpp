@@ -156,20 +156,6 @@ CpuResult renderCpu(const PreparedScene& scene, bool useDouble, int width, int h
     return out;
 }
 
-// True when Vulkan has a device that is not a CPU implementation (lavapipe renders this technique slower than the
-// CPU path does).
-bool hardwareGpu() {
-    static const bool has = [] {
-        try {
-            for (const gpu::DeviceInfo& d : gpu::Context::enumerateDevices())
-                if (d.type != VK_PHYSICAL_DEVICE_TYPE_CPU) return true;
-        } catch (const std::exception&) {
-        }
-        return false;
-    }();
-    return has;
-}
-
 std::string formatDouble(double x) {
     char buffer[32];
     std::snprintf(buffer, sizeof(buffer), "%.6g", x);
@@ -193,7 +179,7 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
     double longestSliceMs = 0.0, gpuMs = 0.0, compileSeconds = 0.0;
     bool useDouble = settings.precision == Precision::Double;
     bool onGpu = settings.device == pegoraro::Device::Gpu;
-    if (settings.device == pegoraro::Device::Auto) onGpu = hardwareGpu();
+    if (settings.device == pegoraro::Device::Auto) onGpu = gpu::hardwareDeviceAvailable();
     if (onGpu) {
         if (!gpu_) gpu_ = std::make_unique<pegoraro::GpuRenderer>();
         if (settings.precision == Precision::Auto)

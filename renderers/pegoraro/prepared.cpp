@@ -1,6 +1,7 @@
 #include "pegoraro/prepared.h"
 
 #include "pegoraro/pegoraro.h"
+#include "src/gpu_surfaces.h"
 #include "src/shader_params.h"
 
 #include "tyndall/error.h"
@@ -112,47 +113,13 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     if (p.coefficients.empty()) p.coefficients.push_back(glm::vec2(0.0f));  // no zero-sized buffers
 
     // Surfaces.
-    for (const Material& m : scene.materials)
-        p.materials.push_back(toMaterialParams(m));
-    if (p.materials.empty()) p.materials.push_back(shader::MaterialParams{});
-    std::vector<TriangleMesh> meshes;
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (const Mesh& mesh : scene.meshes) {
-        TriangleMesh tm = buildMesh(mesh, projectDir);
-        auto it = std::find_if(scene.materials.begin(), scene.materials.end(),
-                               [&](const Material& m) { return m.name == mesh.material; });
-        if (it == scene.materials.end())
-            throw InputError(InputLocation{"", 0, 0, "meshes[" + mesh.name + "].material"},
-                             "unknown material '" + mesh.material + "'");
-        const int material = int(it - scene.materials.begin());
-        for (const glm::uvec3& t : tm.triangles) {
-            shader::SurfaceTriangle st{};
-            const glm::vec3 a = tm.positions[t.x], b = tm.positions[t.y], c = tm.positions[t.z];
-            const glm::vec3 n = glm::cross(b - a, c - a);
-            st.ng = glm::dot(n, n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f, 0.0f, 1.0f);
-            st.material = material;
-            st.tangent = glm::vec3(mesh.tangent);
-            if (!tm.normals.empty()) {
-                st.hasNormals = 1;
-                st.n0 = tm.normals[t.x];
-                st.n1 = tm.normals[t.y];
-                st.n2 = tm.normals[t.z];
-            }
-            p.triangles.push_back(st);
-        }
-        for (const glm::vec3& v : tm.positions) {
-            lo = glm::min(lo, v);
-            hi = glm::max(hi, v);
-        }
-        meshes.push_back(std::move(tm));
-    }
-    p.bvh = gpu::buildBvh(meshes);
-    if (p.triangles.empty()) p.triangles.push_back(shader::SurfaceTriangle{});
-    f.boundsMin = lo;
-    f.boundsMax = hi;
-    // The reference's offset for rays leaving surfaces: 1e-4 of the scene's size.
-    glm::vec3 extent = meshes.empty() ? glm::vec3(1.0f) : hi - lo;
-    f.rayOffset = 1e-4f * std::max(1e-3f, glm::length(extent));
+    GpuSurfaces surfaces = prepareGpuSurfaces(scene, projectDir);
+    p.triangles = std::move(surfaces.triangles);
+    p.materials = std::move(surfaces.materials);
+    p.bvh = std::move(surfaces.bvh);
+    f.boundsMin = surfaces.boundsMin;
+    f.boundsMax = surfaces.boundsMax;
+    f.rayOffset = surfaces.rayOffset;
     return p;
 }
 

@@ -4,6 +4,7 @@
 #include "tyndall/technique.h"
 
 #include "pegoraro/pegoraro.h"
+#include "wvds/wvds.h"
 #include "reference/reference.h"
 
 #include <map>
@@ -19,6 +20,7 @@ struct Registry {
     Registry() {
         factories["reference"] = [] { return std::make_unique<ReferenceTechnique>(); };
         factories["pegoraro"] = [] { return std::make_unique<PegoraroTechnique>(); };
+        factories["wvds"] = [] { return std::make_unique<WvdsTechnique>(); };
     }
 };
 

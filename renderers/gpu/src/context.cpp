@@ -457,4 +457,16 @@ std::shared_ptr<Context> sharedContext() {
     return context;
 }
 
+bool hardwareDeviceAvailable() {
+    static const bool has = [] {
+        try {
+            for (const DeviceInfo& d : Context::enumerateDevices())
+                if (d.type != VK_PHYSICAL_DEVICE_TYPE_CPU) return true;
+        } catch (const std::exception&) {
+        }
+        return false;
+    }();
+    return has;
+}
+
 }  // namespace tyndall::gpu

@@ -127,4 +127,8 @@ private:
 // GpuError when there is no Vulkan device.
 std::shared_ptr<Context> sharedContext();
 
+// True when Vulkan has a device that is not a CPU implementation (lavapipe is one): what `device = auto` of the
+// techniques asks, since their CPU paths are faster than lavapipe. False without Vulkan. Computed once.
+bool hardwareDeviceAvailable();
+
 }  // namespace tyndall::gpu

@@ -1,0 +1,58 @@
+#include "src/gpu_surfaces.h"
+
+#include "src/shader_params.h"
+
+#include "tyndall/error.h"
+#include "tyndall/geometry.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace tyndall {
+
+GpuSurfaces prepareGpuSurfaces(const Scene& scene, const std::string& projectDir) {
+    GpuSurfaces s;
+    for (const Material& m : scene.materials)
+        s.materials.push_back(toMaterialParams(m));
+    if (s.materials.empty()) s.materials.push_back(shader::MaterialParams{});
+    std::vector<TriangleMesh> meshes;
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Mesh& mesh : scene.meshes) {
+        TriangleMesh tm = buildMesh(mesh, projectDir);
+        auto it = std::find_if(scene.materials.begin(), scene.materials.end(),
+                               [&](const Material& m) { return m.name == mesh.material; });
+        if (it == scene.materials.end())
+            throw InputError(InputLocation{"", 0, 0, "meshes[" + mesh.name + "].material"},
+                             "unknown material '" + mesh.material + "'");
+        const int material = int(it - scene.materials.begin());
+        for (const glm::uvec3& t : tm.triangles) {
+            shader::SurfaceTriangle st{};
+            const glm::vec3 a = tm.positions[t.x], b = tm.positions[t.y], c = tm.positions[t.z];
+            const glm::vec3 n = glm::cross(b - a, c - a);
+            st.ng = glm::dot(n, n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f, 0.0f, 1.0f);
+            st.material = material;
+            st.tangent = glm::vec3(mesh.tangent);
+            if (!tm.normals.empty()) {
+                st.hasNormals = 1;
+                st.n0 = tm.normals[t.x];
+                st.n1 = tm.normals[t.y];
+                st.n2 = tm.normals[t.z];
+            }
+            s.triangles.push_back(st);
+        }
+        for (const glm::vec3& v : tm.positions) {
+            lo = glm::min(lo, v);
+            hi = glm::max(hi, v);
+        }
+        meshes.push_back(std::move(tm));
+    }
+    s.bvh = gpu::buildBvh(meshes);
+    if (s.triangles.empty()) s.triangles.push_back(shader::SurfaceTriangle{});
+    s.boundsMin = lo;
+    s.boundsMax = hi;
+    const glm::vec3 extent = meshes.empty() ? glm::vec3(1.0f) : hi - lo;
+    s.rayOffset = 1e-4f * std::max(1e-3f, glm::length(extent));
+    return s;
+}
+
+}  // namespace tyndall

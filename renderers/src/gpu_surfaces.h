@@ -1,0 +1,26 @@
+// The scene's surfaces as the GPU renderers see them (shaders/shared/surface.h and bvh.h): one shading record per
+// triangle, the materials, and the BVH over every mesh. Built once per render by every GPU technique's CPU side.
+#pragma once
+
+#include "shared/bsdf.h"
+#include "shared/surface.h"
+#include "tyndall/gpu/bvh.h"
+#include "tyndall/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace tyndall {
+
+struct GpuSurfaces {
+    std::vector<shader::SurfaceTriangle> triangles;  // indexed by BvhTriangle::id; never empty (a dummy when no mesh)
+    std::vector<shader::MaterialParams> materials;   // in Scene::materials order; never empty
+    gpu::Bvh bvh;
+    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // m, of every triangle (min > max when there is none)
+    float rayOffset = 1e-4f;                     // m, offset of rays leaving surfaces: 1e-4 of the scene's size
+};
+
+// Throws InputError for a mesh whose material is unknown or whose file cannot be read.
+GpuSurfaces prepareGpuSurfaces(const Scene& scene, const std::string& projectDir);
+
+}  // namespace tyndall

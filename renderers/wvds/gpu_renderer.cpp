@@ -1,0 +1,109 @@
+#include "wvds/gpu_renderer.h"
+
+#include "tyndall/error.h"
+#include "tyndall/gpu/shader_compiler.h"
+#include "tyndall/gpu/slicer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <sstream>
+
+namespace tyndall::wvds {
+
+namespace {
+
+constexpr std::uint32_t kGroupSize = 64;
+
+struct Push {
+    std::uint32_t first;
+    std::uint32_t count;
+    std::uint32_t width;
+    std::uint32_t index;
+    std::uint32_t stride;
+    std::uint32_t ratioLights;
+};
+
+std::string shaderPath() {
+    return std::string(TYNDALL_SHADER_DIR) + "/wvds/wvds.comp.glsl";
+}
+
+}  // namespace
+
+GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
+
+gpu::ComputeKernel& GpuRenderer::kernel() {
+    if (kernel_) return *kernel_;
+    const auto start = std::chrono::steady_clock::now();
+    std::ifstream file(shaderPath());
+    if (!file) throw gpu::GpuError("cannot read the shader " + shaderPath());
+    std::stringstream text;
+    text << file.rdbuf();
+    std::string source = text.str();
+    if (context_->device().shaderFloat64) source.insert(source.find('\n') + 1, "#define TY_BVH_WORDS\n#line 2\n");
+    gpu::CompileResult compiled = gpu::compileGlslSource(source, shaderPath(), gpu::ShaderStage::Compute);
+    if (!compiled.ok) throw gpu::ShaderError(*compiled.error);
+    kernel_ = std::make_unique<gpu::ComputeKernel>(*context_, compiled.spirv, 8, std::uint32_t(sizeof(Push)), "wvds");
+    compileSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return *kernel_;
+}
+
+void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int stride, int ratioLights) {
+    kernel();
+    gpu::Context& ctx = *context_;
+    auto upload = [&](const auto& values) {
+        using T = typename std::decay_t<decltype(values)>::value_type;
+        auto b = std::make_unique<gpu::Buffer>(ctx, std::max<std::size_t>(values.size(), 1) * sizeof(T));
+        if (!values.empty()) b->upload(values);
+        return b;
+    };
+    buffers_.clear();
+    buffers_.push_back(upload(scene.surfaces.bvh.nodes));
+    buffers_.push_back(upload(scene.surfaces.bvh.triangles));
+    auto frame = std::make_unique<gpu::Buffer>(ctx, sizeof(shader::WvdsFrame));
+    frame->upload(&scene.frame, sizeof(shader::WvdsFrame));
+    buffers_.push_back(std::move(frame));
+    buffers_.push_back(upload(scene.planes));
+    buffers_.push_back(upload(scene.lights));
+    buffers_.push_back(upload(scene.surfaces.triangles));
+    buffers_.push_back(upload(scene.surfaces.materials));
+    pixels_ = std::uint32_t(width) * std::uint32_t(height);
+    width_ = std::uint32_t(width);
+    stride_ = std::uint32_t(stride);
+    ratioLights_ = std::uint32_t(ratioLights);
+    buffers_.push_back(upload(std::vector<glm::vec4>(std::size_t(pixels_) * 2 * stride_, glm::vec4(0.0f))));
+    longestSliceMs_ = gpuMs_ = 0.0;
+}
+
+void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const RenderCallbacks& callbacks) {
+    TY_CHECK(!buffers_.empty(), "GpuRenderer::begin before addSamples");
+    gpu::ComputeKernel& k = kernel();
+    std::vector<const gpu::Buffer*> bindings;
+    for (const auto& b : buffers_)
+        bindings.push_back(b.get());
+    try {
+        for (std::uint32_t index = first; index < end; ++index) {
+            // One dispatch covers each pixel at most once, so the read-modify-write of its accumulators never races.
+            const gpu::SliceStats stats = gpu::runSliced(
+                *context_, pixels_,
+                [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t count) {
+                    Push push{std::uint32_t(begin), pixels_, width_, index, stride_, ratioLights_};
+                    k.record(cmd, bindings, &push, std::uint32_t((count + kGroupSize - 1) / kGroupSize));
+                    gpu::computeToComputeBarrier(cmd);
+                },
+                callbacks.cancel, 10.0, 1024);
+            longestSliceMs_ = std::max(longestSliceMs_, stats.longestMs);
+            gpuMs_ += stats.totalMs;
+            k.resetDescriptors();
+        }
+    } catch (...) {
+        k.resetDescriptors();
+        throw;
+    }
+}
+
+std::vector<glm::vec4> GpuRenderer::accumulators() const {
+    return buffers_.back()->download<glm::vec4>(std::size_t(pixels_) * 2 * stride_);
+}
+
+}  // namespace tyndall::wvds

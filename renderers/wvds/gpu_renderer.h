@@ -1,0 +1,43 @@
+// The WVDS technique on the GPU: uploads a prepared scene once, then adds camera samples to per-pixel accumulators
+// that stay on the GPU, one dispatch per sample index in slices of about 10 ms (tyndall/gpu/slicer.h), so that a
+// progressive render can be cancelled between slices and read back at every pass.
+#pragma once
+
+#include "wvds/prepared.h"
+
+#include "tyndall/gpu/context.h"
+#include "tyndall/gpu/resources.h"
+#include "tyndall/technique.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace tyndall::wvds {
+
+class GpuRenderer {
+public:
+    GpuRenderer();  // on gpu::sharedContext(); throws GpuError without Vulkan
+
+    // Starts a render: uploads the scene and zeroes `stride` vec4 accumulators per pixel and half.
+    void begin(const PreparedScene& scene, int width, int height, int stride, int ratioLights);
+    // Adds camera samples [first, end) to every pixel. Throws Cancelled between slices.
+    void addSamples(std::uint32_t first, std::uint32_t end, const RenderCallbacks& callbacks);
+    std::vector<glm::vec4> accumulators() const;
+
+    gpu::Context& context() { return *context_; }
+    double longestSliceMs() const { return longestSliceMs_; }
+    double gpuMs() const { return gpuMs_; }
+    double compileSeconds() const { return compileSeconds_; }
+
+private:
+    gpu::ComputeKernel& kernel();
+
+    std::shared_ptr<gpu::Context> context_;
+    std::unique_ptr<gpu::ComputeKernel> kernel_;
+    std::vector<std::unique_ptr<gpu::Buffer>> buffers_;  // bindings 0-7, the accumulators last
+    std::uint32_t pixels_ = 0, width_ = 0, stride_ = 1, ratioLights_ = 0;
+    double longestSliceMs_ = 0.0, gpuMs_ = 0.0, compileSeconds_ = 0.0;
+};
+
+}  // namespace tyndall::wvds

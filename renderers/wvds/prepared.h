@@ -1,0 +1,60 @@
+// The WVDS technique's scene, prepared once per render for both paths: the std430 arrays of
+// shaders/shared/wvds_scene.h (frame, planes, lights, surfaces) and the BVH.
+#pragma once
+
+#include "src/gpu_surfaces.h"
+
+#include "shared/wvds_scene.h"
+#include "tyndall/params.h"
+#include "tyndall/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace tyndall::wvds {
+
+enum class Device { Auto, Gpu, Cpu };
+
+struct Settings {
+    Device device = Device::Auto;
+    int estimator = shader::kWvdsMcwvds;
+    int samplesPerPixel = 16;  // camera rays per pixel when the request does not say
+    int raySamples = 1;        // distance samples per camera ray
+    bool shadows = true;
+    bool lightSelection = true;
+    double pdfScale = 1.0;
+};
+
+// The estimator names of the `estimator` parameter, indexed by shader::kWvds*.
+const std::vector<std::string>& estimatorNames();
+int estimatorFromName(const std::string& name);  // throws InputError for an unknown one
+
+Settings settingsFrom(const ParamSet& params);
+
+struct PreparedScene {
+    shader::WvdsFrame frame{};
+    std::vector<glm::vec4> planes;  // the medium's, then each light's beam planes
+    std::vector<shader::WvdsLight> lights;
+    GpuSurfaces surfaces;
+};
+
+// Throws InputError for scene content the technique cannot render (checked by the technique before) or that is
+// inconsistent: not exactly one bounded medium, too many lights or faces.
+PreparedScene prepareScene(const Scene& scene, const Settings& settings, std::uint64_t seed,
+                           const std::string& projectDir);
+
+// Binds a prepared scene to the calling thread for the C++ definitions of the accessors of wvds_scene.h (and its BVH
+// for bvh.h's), so that the shared renderer runs on the CPU. The scene must outlive the scope.
+class SceneScope {
+public:
+    explicit SceneScope(const PreparedScene& scene);
+    ~SceneScope();
+    SceneScope(const SceneScope&) = delete;
+    SceneScope& operator=(const SceneScope&) = delete;
+
+private:
+    const PreparedScene* previous_;
+    gpu::BvhScope bvh_;
+};
+
+}  // namespace tyndall::wvds

@@ -1,0 +1,53 @@
+// Collimated single scattering in a convex homogeneous medium (Velinov and Mitchell, "Collimated Whole Volume Light
+// Scattering in Homogeneous Finite Media", ../shared/papers/001): the analytic unoccluded integral over the trapezoid
+// segments of the light-view section (Sec. 4, Eq. 4-8), whole-volume distance sampling and its pdf (Sec. 5,
+// Eq. 9-11), and the classic samplers the paper compares against. Shared by GLSL and C++; the core is written once in
+// wvds_impl.h and instantiated here in float and, where doubles exist (C++, or GLSL with TY_ENABLE_DOUBLE), in double.
+//
+// The derivation is in docs/wvds.md. In short: along the camera ray x(t) = o + t d, a point inside a convex medium
+// {x : dot(n_f, x) <= w_f} reaches the boundary towards the light (direction l, from the point to the light) after
+//   d_m(t) = min over the faces with dot(n_f, l) > 0 of (w_f - dot(n_f, x(t))) / dot(n_f, l),
+// a minimum of linear functions of t: concave and piecewise linear, with one piece per face it crosses (at most 3 for
+// a box: the paper's trapezoid segments). The light's path through the medium, from the camera's entry point tIn to
+// x(t) and on to the boundary, has length P(t) = t - tIn + d_m(t), linear on each piece: P = p0 + c (t - t0) with the
+// paper's slope c = 1 + d d_m/dt. Each piece integrates in closed form (Eq. 6), and sampling t with density
+// e^{-sigma P(t)} / T_total inverts it piece by piece (Eq. 9-11).
+//
+// The includer defines, after including this header, the accessor
+//   vec4 wvdsPlane(int i);   plane i as (n, w): the half-space dot(n, x) <= w, n of unit length
+// over wherever it keeps the planes (a storage buffer in GLSL, the scene bound to the thread in C++).
+#ifndef TY_SHARED_WVDS_H
+#define TY_SHARED_WVDS_H
+
+#include "compat.h"
+#include "complex.h"
+#include "constants.h"
+
+TY_BEGIN
+
+TY_CONST int kWvdsMaxPlanes = 16;    // faces of the medium: 6 for a box, up to 16 for a convex polyhedron
+TY_CONST int kWvdsMaxSegments = 16;  // pieces of d_m along a ray: at most one per face with dot(n, l) > 0
+
+vec4 wvdsPlane(int i);  // supplied by the includer (see above)
+
+TY_END
+
+#define TY_R float
+#define TY_R3 vec3
+#define TY_RS(name) name##_float
+#include "wvds_impl.h"
+#undef TY_R
+#undef TY_R3
+#undef TY_RS
+
+#ifdef TY_HAS_DOUBLE
+#define TY_R double
+#define TY_R3 dvec3
+#define TY_RS(name) name##_double
+#include "wvds_impl.h"
+#undef TY_R
+#undef TY_R3
+#undef TY_RS
+#endif
+
+#endif  // TY_SHARED_WVDS_H

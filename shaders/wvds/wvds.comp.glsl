@@ -1,0 +1,51 @@
+#version 460
+// The WVDS technique on the GPU: one invocation per pixel adds one camera sample of the shared renderer
+// (shared/wvds_scene.h) to the pixel's accumulators. renderers/wvds/ compiles it at run time and may insert, after the
+// #version line,
+//   TY_BVH_WORDS   BVH arrays read as 64-bit words (needs shaderFloat64; the cheaper loads on lavapipe)
+// The build compiles this file as it is so that CI validates it with spirv-val.
+#extension GL_GOOGLE_include_directive : require
+
+#define TY_BVH_NODES_BINDING 0
+#define TY_BVH_TRIANGLES_BINDING 1
+#include "../include/bvh_buffers.glsl"
+#include "../shared/wvds_scene.h"
+
+layout(local_size_x = 64) in;
+
+layout(std430, set = 0, binding = 2) readonly buffer Frame { WvdsFrame frame; };
+layout(std430, set = 0, binding = 3) readonly buffer Planes { vec4 planes[]; };
+layout(std430, set = 0, binding = 4) readonly buffer Lights { WvdsLight lights[]; };
+layout(std430, set = 0, binding = 5) readonly buffer SurfaceTriangles { SurfaceTriangle surfaceTriangles[]; };
+layout(std430, set = 0, binding = 6) readonly buffer Materials { MaterialParams materials[]; };
+// Per pixel and half (even and odd samples, for the variance estimate): `stride` vec4s, the direct sum first, then
+// per light of a ratio estimator its analytic term, numerator and denominator. Each dispatch covers a pixel once.
+layout(std430, set = 0, binding = 7) buffer Accumulators { vec4 accumulators[]; };
+
+layout(push_constant) uniform Push {
+    uint first;   // first pixel of this dispatch
+    uint count;   // pixels in the image
+    uint width;
+    uint index;   // the camera sample every pixel adds
+    uint stride;  // vec4s per pixel and half
+    uint ratioLights;
+} push;
+
+vec4 wvdsPlane(int i) { return planes[i]; }
+WvdsLight wvdsLight(int i) { return lights[i]; }
+SurfaceTriangle wvdsTriangle(int id) { return surfaceTriangles[id]; }
+MaterialParams wvdsMaterial(int i) { return materials[i]; }
+
+void main() {
+    uint pixel = push.first + gl_GlobalInvocationID.x;
+    if (pixel >= push.count) return;
+    int px = int(pixel % push.width), py = int(pixel / push.width);
+    WvdsTerms terms = wvdsSample(frame, px, py, push.index);
+    uint base = (pixel * 2u + (push.index & 1u)) * push.stride;
+    accumulators[base] += vec4(terms.direct, 1.0);
+    for (uint l = 0u; l < push.ratioLights; ++l) {
+        accumulators[base + 1u + 3u * l] += vec4(terms.analytic[l], 0.0);
+        accumulators[base + 2u + 3u * l] += vec4(terms.numerator[l], 0.0);
+        accumulators[base + 3u + 3u * l] += vec4(terms.denominator[l], 0.0);
+    }
+}
