@@ -17,7 +17,7 @@ constexpr std::uint32_t kGroupSize = 64;
 
 struct Push {
     std::uint32_t first;
-    std::uint32_t count;
+    std::uint32_t end;  // one past the last pixel of this dispatch (its groups may reach beyond: they must not add)
     std::uint32_t width;
     std::uint32_t index;
     std::uint32_t stride;
@@ -87,7 +87,7 @@ void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const Rende
             const gpu::SliceStats stats = gpu::runSliced(
                 *context_, pixels_,
                 [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t count) {
-                    Push push{std::uint32_t(begin), pixels_, width_, index, stride_, ratioLights_};
+                    Push push{std::uint32_t(begin), std::uint32_t(begin + count), width_, index, stride_, ratioLights_};
                     k.record(cmd, bindings, &push, std::uint32_t((count + kGroupSize - 1) / kGroupSize));
                     gpu::computeToComputeBarrier(cmd);
                 },

@@ -145,7 +145,7 @@ TY_FUNC vec3 wvdsMediumEstimate(TY_IN(WvdsFrame) f, TY_IN(WvdsLight) light, TY_I
     return weight * transmittance * (v / (f.pdfScale * selection));
 }
 
-// Camera sample `index` of pixel (px, py).
+// Camera sample `index` of pixel (px, py); it belongs to the half index & 1 of the pixel's samples.
 TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
     WvdsTerms terms;
     terms.direct = vec3(0.0f);
@@ -154,10 +154,13 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
         terms.numerator[i] = vec3(0.0f);
         terms.denominator[i] = vec3(0.0f);
     }
-    uint pixelSeed = hashCombine(hashCombine(f.seed, uint(px)), uint(py));
-    vec2 jitter = sobolSample2D(pixelSeed, index, 0u);
-    vec2 first = sobolSample2D(pixelSeed, index, 1u);
-    Pcg32 rng = pcg32Seed(pixelSeed, index);
+    // Even and odd camera samples come from two independently scrambled sequences, so that the two halves of a pixel's
+    // samples are independent and their difference estimates the variance (as in the reference).
+    uint pixelSeed = hashCombine(hashCombine(hashCombine(f.seed, uint(px)), uint(py)), index & 1u);
+    uint sequenceIndex = index >> 1u;
+    vec2 jitter = sobolSample2D(pixelSeed, sequenceIndex, 0u);
+    vec2 first = sobolSample2D(pixelSeed, sequenceIndex, 1u);
+    Pcg32 rng = pcg32Seed(pixelSeed, sequenceIndex);
     vec3 origin, dir;
     cameraRay(f.camera, float(px) + jitter.x, float(py) + jitter.y, origin, dir);
     BvhHit hit;

@@ -24,7 +24,7 @@ layout(std430, set = 0, binding = 7) buffer Accumulators { vec4 accumulators[]; 
 
 layout(push_constant) uniform Push {
     uint first;   // first pixel of this dispatch
-    uint count;   // pixels in the image
+    uint end;     // one past the last pixel of this dispatch: the next slice adds the pixels after it
     uint width;
     uint index;   // the camera sample every pixel adds
     uint stride;  // vec4s per pixel and half
@@ -38,7 +38,7 @@ MaterialParams wvdsMaterial(int i) { return materials[i]; }
 
 void main() {
     uint pixel = push.first + gl_GlobalInvocationID.x;
-    if (pixel >= push.count) return;
+    if (pixel >= push.end) return;
     int px = int(pixel % push.width), py = int(pixel / push.width);
     WvdsTerms terms = wvdsSample(frame, px, py, push.index);
     uint base = (pixel * 2u + (push.index & 1u)) * push.stride;
