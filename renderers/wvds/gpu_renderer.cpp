@@ -32,24 +32,32 @@ std::string shaderPath() {
 
 GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
 
-gpu::ComputeKernel& GpuRenderer::kernel() {
-    if (kernel_) return *kernel_;
+gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, int phaseKind) {
+    const int maxPlanes = planeCount <= 6 ? 6 : planeCount <= 8 ? 8 : shader::kWvdsMaxPlanes;
+    const std::string key = std::to_string(estimator) + "-" + std::to_string(maxPlanes) + "-" + std::to_string(phaseKind);
+    auto it = kernels_.find(key);
+    if (it != kernels_.end()) return *it->second;
     const auto start = std::chrono::steady_clock::now();
     std::ifstream file(shaderPath());
     if (!file) throw gpu::GpuError("cannot read the shader " + shaderPath());
     std::stringstream text;
     text << file.rdbuf();
     std::string source = text.str();
-    if (context_->device().shaderFloat64) source.insert(source.find('\n') + 1, "#define TY_BVH_WORDS\n#line 2\n");
+    std::string defines = "#define TY_WVDS_ESTIMATOR " + std::to_string(estimator) + "\n#define TY_WVDS_MAX_PLANES " +
+                          std::to_string(maxPlanes) + "\n#define TY_PHASE_KIND " + std::to_string(phaseKind) + "\n";
+    if (context_->device().shaderFloat64) defines += "#define TY_BVH_WORDS\n";
+    source.insert(source.find('\n') + 1, defines + "#line 2\n");
     gpu::CompileResult compiled = gpu::compileGlslSource(source, shaderPath(), gpu::ShaderStage::Compute);
     if (!compiled.ok) throw gpu::ShaderError(*compiled.error);
-    kernel_ = std::make_unique<gpu::ComputeKernel>(*context_, compiled.spirv, 8, std::uint32_t(sizeof(Push)), "wvds");
-    compileSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return *kernel_;
+    auto k = std::make_unique<gpu::ComputeKernel>(*context_, compiled.spirv, 8, std::uint32_t(sizeof(Push)),
+                                                  "wvds_" + key);
+    compileSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return *kernels_.emplace(key, std::move(k)).first->second;
 }
 
 void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int stride, int ratioLights) {
-    kernel();
+    compileSeconds_ = 0.0;
+    kernel_ = &kernel(scene.frame.estimator, scene.frame.planeCount, scene.frame.phase.kind);
     gpu::Context& ctx = *context_;
     auto upload = [&](const auto& values) {
         using T = typename std::decay_t<decltype(values)>::value_type;
@@ -76,8 +84,8 @@ void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int s
 }
 
 void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const RenderCallbacks& callbacks) {
-    TY_CHECK(!buffers_.empty(), "GpuRenderer::begin before addSamples");
-    gpu::ComputeKernel& k = kernel();
+    TY_CHECK(kernel_ != nullptr && !buffers_.empty(), "GpuRenderer::begin before addSamples");
+    gpu::ComputeKernel& k = *kernel_;
     std::vector<const gpu::Buffer*> bindings;
     for (const auto& b : buffers_)
         bindings.push_back(b.get());

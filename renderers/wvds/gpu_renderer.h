@@ -9,6 +9,7 @@
 #include "tyndall/gpu/resources.h"
 #include "tyndall/technique.h"
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,13 +29,15 @@ public:
     gpu::Context& context() { return *context_; }
     double longestSliceMs() const { return longestSliceMs_; }
     double gpuMs() const { return gpuMs_; }
-    double compileSeconds() const { return compileSeconds_; }
+    double compileSeconds() const { return compileSeconds_; }  // of the current render's variant (0 when cached)
 
 private:
-    gpu::ComputeKernel& kernel();
+    // The variant for an estimator, a number of faces and a phase function, compiled on first use.
+    gpu::ComputeKernel& kernel(int estimator, int planeCount, int phaseKind);
 
     std::shared_ptr<gpu::Context> context_;
-    std::unique_ptr<gpu::ComputeKernel> kernel_;
+    std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels_;
+    gpu::ComputeKernel* kernel_ = nullptr;  // the current render's
     std::vector<std::unique_ptr<gpu::Buffer>> buffers_;  // bindings 0-7, the accumulators last
     std::uint32_t pixels_ = 0, width_ = 0, stride_ = 1, ratioLights_ = 0;
     double longestSliceMs_ = 0.0, gpuMs_ = 0.0, compileSeconds_ = 0.0;

@@ -345,8 +345,8 @@ ProbeResult distanceProbe(const PreparedScene& scene, const Scene& sceneModel, i
     };
     const float sigma = f.sigmaSample;
     histogram("whole-volume distance sampling", [&](float u) {
-        float pdf;
-        return shader::wvdsSample_float(pieces, sigma, u, pdf);
+        float pdf, path;
+        return shader::wvdsSample_float(pieces, sigma, u, pdf, path);
     });
     density("whole-volume pdf (Eq. 11)", [&](float t) { return shader::wvdsPdf_float(pieces, sigma, t); });
     histogram("distance sampling", [&](float u) {

@@ -25,8 +25,14 @@
 
 TY_BEGIN
 
-TY_CONST int kWvdsMaxPlanes = 16;    // faces of the medium: 6 for a box, up to 16 for a convex polyhedron
-TY_CONST int kWvdsMaxSegments = 16;  // pieces of d_m along a ray: at most one per face with dot(n, l) > 0
+// Faces of the medium (6 for a box) and pieces of d_m along a ray (at most one per face with dot(n, l) > 0). A shader
+// may lower TY_WVDS_MAX_PLANES before including this header: its loops then unroll and its arrays stay in registers,
+// which on lavapipe halves the cost of a sample (arrays indexed at run time live in memory there).
+#ifndef TY_WVDS_MAX_PLANES
+#define TY_WVDS_MAX_PLANES 16
+#endif
+TY_CONST int kWvdsMaxPlanes = TY_WVDS_MAX_PLANES;
+TY_CONST int kWvdsMaxSegments = TY_WVDS_MAX_PLANES;
 
 vec4 wvdsPlane(int i);  // supplied by the includer (see above)
 

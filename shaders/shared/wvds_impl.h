@@ -4,29 +4,26 @@
 
 TY_BEGIN
 
-// (1 - e^-x) / x for x >= 0, without the cancellation of the direct form near 0 (its Taylor series below 1/2, good
-// to 1e-12 relative there).
+// (1 - e^-x) / x for x >= 0, without the cancellation of the direct form near 0: below 1/2 its Taylor series
+// sum_k (-x)^k / (k + 1)!, to k = 12 (good to 1e-12 relative), by Horner's rule with constant reciprocals.
 TY_FUNC TY_R TY_RS(wvdsPhi)(TY_R x) {
     if (x < TY_R(0.5f)) {
-        TY_R term = TY_R(1.0f), sum = TY_R(1.0f);
-        for (int k = 1; k <= 12; ++k) {
-            term *= -x / TY_R(float(k + 1));
-            sum += term;
-        }
+        TY_R sum = TY_R(1.0f);
+        for (int k = 13; k >= 2; --k)
+            sum = TY_R(1.0f) - x * sum * (TY_R(1.0f) / TY_R(float(k)));
         return sum;
     }
     return (TY_R(1.0f) - realExp(-x)) / x;
 }
 
-// log(q) for q = 1 - y in (0, 1], given both: the series of log(1 - y) where y is small (where 1 - y would round).
+// log(q) for q = 1 - y in (0, 1], given both: the series -sum_k y^k / k (to k = 14, by Horner's rule) where y is small
+// (where 1 - y would round), else the logarithm.
 TY_FUNC TY_R TY_RS(wvdsLogOneMinus)(TY_R y, TY_R q) {
     if (y < TY_R(0.0625f)) {
-        TY_R power = y, sum = TY_R(0.0f);
-        for (int k = 1; k <= 14; ++k) {
-            sum -= power / TY_R(float(k));
-            power *= y;
-        }
-        return sum;
+        TY_R sum = TY_R(0.0f);
+        for (int k = 14; k >= 1; --k)
+            sum = y * (TY_R(1.0f) / TY_R(float(k)) + sum);
+        return -sum;
     }
     return realLog(q);
 }
@@ -71,112 +68,143 @@ struct TY_RS(WvdsPieces) {
 // light ray can leave through, d_f(t) = (w_f - n_f.(o + t d)) / (n_f.l), walked from a to b. The medium is the planes
 // [first, first + count); o + t d is the camera ray (d of unit length), tIn where it enters the medium, l the unit
 // direction towards the light. Returns the number of pieces: 0 when [a, b] is empty.
+// Every array here is indexed by a loop counter with a constant bound (faces that do not count get the line
+// alpha = +max, beta = 0, which is never lowest and never crossed within [a, b]), so that shaders keep them in
+// registers; the current and the next line are carried as values.
 TY_FUNC int TY_RS(wvdsPieces)(int first, int count, TY_IN(TY_R3) o, TY_IN(TY_R3) d, TY_IN(TY_R3) l, TY_R tIn, TY_R a,
                               TY_R b, TY_OUT(TY_RS(WvdsPieces)) pieces) {
-    pieces.count = 0;
-    for (int k = 0; k < kWvdsMaxSegments; ++k) {
-        pieces.t0[k] = TY_R(0.0f);
-        pieces.len[k] = TY_R(0.0f);
-        pieces.p0[k] = TY_R(0.0f);
-        pieces.c[k] = TY_R(1.0f);
-    }
     TY_R alpha[kWvdsMaxPlanes];
     TY_R beta[kWvdsMaxPlanes];
-    int lines = 0;
+    bool any = false;
     for (int i = 0; i < kWvdsMaxPlanes; ++i) {
-        alpha[i] = TY_R(0.0f);
+        alpha[i] = TY_R(kInfinity);
         beta[i] = TY_R(0.0f);
         if (i >= count) continue;
         vec4 plane = wvdsPlane(first + i);
         TY_R3 n = TY_R3(vec3(plane));
         TY_R nl = dot(n, l);
         if (nl <= TY_R(0.0f)) continue;  // the light ray cannot leave through this face
-        alpha[lines] = (TY_R(plane.w) - dot(n, o)) / nl;
-        beta[lines] = -dot(n, d) / nl;
-        ++lines;
+        alpha[i] = (TY_R(plane.w) - dot(n, o)) / nl;
+        beta[i] = -dot(n, d) / nl;
+        any = true;
     }
-    if (lines == 0 || !(b > a)) return 0;
+    pieces.count = 0;
+    for (int k = 0; k < kWvdsMaxSegments; ++k) {
+        pieces.t0[k] = b;
+        pieces.len[k] = TY_R(0.0f);
+        pieces.p0[k] = TY_R(0.0f);
+        pieces.c[k] = TY_R(1.0f);
+    }
+    if (!any || !(b > a)) return 0;
 
     // The lowest line at a (ties: the one that stays lowest, the smaller slope).
-    int current = 0;
+    TY_R curAlpha = alpha[0], curBeta = beta[0];
     TY_R best = alpha[0] + beta[0] * a;
-    for (int i = 1; i < lines; ++i) {
+    for (int i = 1; i < kWvdsMaxPlanes; ++i) {
         TY_R v = alpha[i] + beta[i] * a;
-        if (v < best || (v == best && beta[i] < beta[current])) {
+        if (v < best || (v == best && beta[i] < curBeta)) {
             best = v;
-            current = i;
+            curAlpha = alpha[i];
+            curBeta = beta[i];
         }
     }
     TY_R t = a;
+    bool done = false;
     for (int k = 0; k < kWvdsMaxSegments; ++k) {
+        if (done) continue;
         // The next corner: the first line with a smaller slope to cross the current one after t.
-        TY_R next = b;
-        int nextLine = -1;
-        for (int i = 0; i < lines; ++i) {
-            if (!(beta[i] < beta[current])) continue;
-            TY_R tx = (alpha[i] - alpha[current]) / (beta[current] - beta[i]);
-            if (tx > t && (tx < next || (tx == next && nextLine >= 0 && beta[i] < beta[nextLine]))) {
+        TY_R next = b, nextAlpha = curAlpha, nextBeta = curBeta;
+        bool turns = false;
+        for (int i = 0; i < kWvdsMaxPlanes; ++i) {
+            if (!(beta[i] < curBeta)) continue;
+            TY_R tx = (alpha[i] - curAlpha) / (curBeta - beta[i]);
+            if (tx > t && (tx < next || (tx == next && turns && beta[i] < nextBeta))) {
                 next = tx;
-                nextLine = i;
+                nextAlpha = alpha[i];
+                nextBeta = beta[i];
+                turns = true;
             }
         }
         pieces.t0[k] = t;
         pieces.len[k] = next - t;
-        pieces.p0[k] = t - tIn + max(alpha[current] + beta[current] * t, TY_R(0.0f));
-        pieces.c[k] = TY_R(1.0f) + beta[current];
+        pieces.p0[k] = t - tIn + max(curAlpha + curBeta * t, TY_R(0.0f));
+        pieces.c[k] = TY_R(1.0f) + curBeta;
         pieces.count = k + 1;
-        if (nextLine < 0) break;
+        done = !turns;
         t = next;
-        current = nextLine;
+        curAlpha = nextAlpha;
+        curBeta = nextBeta;
     }
     return pieces.count;
 }
 
 // The path length P(t) at a point t of the pieces (clamped to their range).
 TY_FUNC TY_R TY_RS(wvdsPathLength)(TY_IN(TY_RS(WvdsPieces)) pieces, TY_R t) {
-    int k = 0;
-    for (int i = 1; i < pieces.count; ++i)
-        if (t >= pieces.t0[i]) k = i;
-    TY_R s = clamp(t - pieces.t0[k], TY_R(0.0f), pieces.len[k]);
-    return pieces.p0[k] + pieces.c[k] * s;
+    TY_R t0 = pieces.t0[0], len = pieces.len[0], p0 = pieces.p0[0], c = pieces.c[0];
+    for (int k = 1; k < kWvdsMaxSegments; ++k) {
+        if (k < pieces.count && t >= pieces.t0[k]) {
+            t0 = pieces.t0[k];
+            len = pieces.len[k];
+            p0 = pieces.p0[k];
+            c = pieces.c[k];
+        }
+    }
+    return p0 + c * clamp(t - t0, TY_R(0.0f), len);
 }
 
 // T_total = Tbox (Sec. 4.2, Eq. 6 summed over the segments): the unoccluded integral over t of e^{-sigma P(t)}.
 TY_FUNC TY_R TY_RS(wvdsTotal)(TY_IN(TY_RS(WvdsPieces)) pieces, TY_R sigma) {
     TY_R total = TY_R(0.0f);
-    for (int k = 0; k < pieces.count; ++k)
-        total += TY_RS(wvdsPieceIntegral)(sigma, pieces.p0[k], pieces.c[k], pieces.len[k]);
+    for (int k = 0; k < kWvdsMaxSegments; ++k)
+        if (k < pieces.count) total += TY_RS(wvdsPieceIntegral)(sigma, pieces.p0[k], pieces.c[k], pieces.len[k]);
     return total;
 }
 
 // Eq. 9-10, WVDS paper (001): whole-volume distance sampling. Chooses a segment with probability T_k / T_total, maps
 // u into it, and inverts the segment's integral. Returns t; `pdf` receives Eq. 11, which is e^{-sigma P(t)} / T_total
-// (0 when T_total underflows: then the ray carries no light either).
-TY_FUNC TY_R TY_RS(wvdsSample)(TY_IN(TY_RS(WvdsPieces)) pieces, TY_R sigma, TY_R u, TY_OUT(TY_R) pdf) {
-    TY_R total = TY_RS(wvdsTotal)(pieces, sigma);
-    pdf = TY_R(0.0f);
-    if (!(total > TY_R(0.0f)) || pieces.count == 0) return pieces.t0[0];
-    TY_R target = u * total, below = TY_R(0.0f);
-    int k = pieces.count - 1;
-    TY_R segment = TY_R(0.0f);
-    for (int i = 0; i < pieces.count; ++i) {
-        segment = TY_RS(wvdsPieceIntegral)(sigma, pieces.p0[i], pieces.c[i], pieces.len[i]);
-        if (target < below + segment || i == pieces.count - 1) {
-            k = i;
-            break;
-        }
-        below += segment;
+// (0 when T_total underflows: then the ray carries no light either), and `path` the path length P(t).
+TY_FUNC TY_R TY_RS(wvdsSample)(TY_IN(TY_RS(WvdsPieces)) pieces, TY_R sigma, TY_R u, TY_OUT(TY_R) pdf,
+                               TY_OUT(TY_R) path) {
+    TY_R integrals[kWvdsMaxSegments];
+    TY_R total = TY_R(0.0f);
+    for (int k = 0; k < kWvdsMaxSegments; ++k) {
+        integrals[k] = k < pieces.count ? TY_RS(wvdsPieceIntegral)(sigma, pieces.p0[k], pieces.c[k], pieces.len[k])
+                                        : TY_R(0.0f);
+        total += integrals[k];
     }
-    TY_R r = segment > TY_R(0.0f) ? clamp((target - below) / segment, TY_R(0.0f), TY_R(1.0f)) : TY_R(0.5f);
-    TY_R s = TY_RS(wvdsPieceSample)(sigma, pieces.c[k], pieces.len[k], r);
-    pdf = realExp(-sigma * (pieces.p0[k] + pieces.c[k] * s)) / total;
-    return pieces.t0[k] + s;
+    pdf = TY_R(0.0f);
+    path = TY_R(0.0f);
+    if (!(total > TY_R(0.0f))) return pieces.t0[0];
+    TY_R target = u * total, below = TY_R(0.0f);
+    TY_R t0 = pieces.t0[0], len = pieces.len[0], p0 = pieces.p0[0], c = pieces.c[0], segment = integrals[0];
+    TY_R chosenBelow = TY_R(0.0f);
+    bool found = false;
+    for (int k = 0; k < kWvdsMaxSegments; ++k) {
+        if (found || k >= pieces.count) continue;
+        if (target < below + integrals[k] || k == pieces.count - 1) {
+            found = true;
+            t0 = pieces.t0[k];
+            len = pieces.len[k];
+            p0 = pieces.p0[k];
+            c = pieces.c[k];
+            segment = integrals[k];
+            chosenBelow = below;
+        }
+        below += integrals[k];
+    }
+    TY_R r = segment > TY_R(0.0f) ? clamp((target - chosenBelow) / segment, TY_R(0.0f), TY_R(1.0f)) : TY_R(0.5f);
+    TY_R s = TY_RS(wvdsPieceSample)(sigma, c, len, r);
+    path = p0 + c * s;
+    pdf = realExp(-sigma * path) / total;
+    return t0 + s;
 }
 
 // Eq. 11: the pdf of wvdsSample at t (0 outside the pieces).
 TY_FUNC TY_R TY_RS(wvdsPdf)(TY_IN(TY_RS(WvdsPieces)) pieces, TY_R sigma, TY_R t) {
     if (pieces.count == 0) return TY_R(0.0f);
-    TY_R end = pieces.t0[pieces.count - 1] + pieces.len[pieces.count - 1];
+    TY_R end = pieces.t0[0];
+    for (int k = 0; k < kWvdsMaxSegments; ++k)
+        if (k < pieces.count) end = pieces.t0[k] + pieces.len[k];
     if (t < pieces.t0[0] || t > end) return TY_R(0.0f);
     TY_R total = TY_RS(wvdsTotal)(pieces, sigma);
     return total > TY_R(0.0f) ? realExp(-sigma * TY_RS(wvdsPathLength)(pieces, t)) / total : TY_R(0.0f);

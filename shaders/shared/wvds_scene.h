@@ -81,6 +81,16 @@ WvdsLight wvdsLight(int i);
 SurfaceTriangle wvdsTriangle(int id);
 MaterialParams wvdsMaterial(int i);
 
+// The estimator: a compile-time constant where the shader defines TY_WVDS_ESTIMATOR (one variant per estimator, so that
+// the code and the arrays of the others are not there), else the frame's.
+TY_FUNC int wvdsEstimator(TY_IN(WvdsFrame) f) {
+#ifdef TY_WVDS_ESTIMATOR
+    return TY_WVDS_ESTIMATOR;
+#else
+    return f.estimator;
+#endif
+}
+
 TY_FUNC bool wvdsIsRatio(int estimator) {
     return estimator == kWvdsReds || estimator == kWvdsRees;
 }
@@ -118,18 +128,18 @@ TY_FUNC vec2 wvdsRandom2(int k, TY_IN(vec2) first, TY_INOUT(Pcg32) rng) {
 
 // The medium radiance of light i along [a, b] of the camera ray by the non-ratio estimators, for the distance samples
 // k of N, with random number u; `selection` is the probability with which light selection chose the light (1 without).
-TY_FUNC vec3 wvdsMediumEstimate(TY_IN(WvdsFrame) f, TY_IN(WvdsLight) light, TY_IN(vec3) weight, TY_IN(vec3) origin,
+TY_FUNC vec3 wvdsMediumEstimate(TY_IN(WvdsFrame) f, int estimator, TY_IN(WvdsLight) light, TY_IN(vec3) weight, TY_IN(vec3) origin,
                                 TY_IN(vec3) dir, float tIn, float a, float b, TY_IN(WvdsPieces_float) pieces,
                                 float u, int stratum, int strata, float selection) {
     float t = a, pdf = 0.0f;
     vec3 transmittance = vec3(0.0f);
-    if (f.estimator == kWvdsMcwvds) {
-        t = wvdsSample_float(pieces, f.sigmaSample, u, pdf);
+    if (estimator == kWvdsMcwvds) {
+        float path;
+        t = wvdsSample_float(pieces, f.sigmaSample, u, pdf, path);
         if (!(pdf > 0.0f)) return vec3(0.0f);
-        // e^{-sigma_t P} / pdf = Tbox e^{-(sigma_t - sigma) P}: exactly Tbox for a grey medium (Sec. 6).
-        transmittance = exp(-(f.sigmaT - vec3(f.sigmaSample)) * wvdsPathLength_float(pieces, t)) *
-                        wvdsTotal_float(pieces, f.sigmaSample);
-    } else if (f.estimator == kWvdsMcds) {
+        // e^{-sigma_t P} / pdf = Tbox e^{-(sigma_t - sigma) P}: Tbox for a grey medium (Sec. 6).
+        transmittance = wvdsTransmittance(f, path) / pdf;
+    } else if (estimator == kWvdsMcds) {
         t = wvdsDistanceSample_float(f.sigmaSample, a, b, u, pdf);
         if (!(pdf > 0.0f)) return vec3(0.0f);
         vec3 x = origin + t * dir;
@@ -173,15 +183,17 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
     float mediumEnd = min(tOut, tEnd);
     bool scatters = inMedium && tIn < mediumEnd;
     int N = max(f.raySamples, 1);
+    int estimator = wvdsEstimator(f);
 
     // Light selection (mcwvds, mcds): each light's unoccluded radiance, from the analytic integral.
-    bool select = f.lightSelection != 0 && (f.estimator == kWvdsMcwvds || f.estimator == kWvdsMcds) && f.lightCount > 1;
+    bool select = f.lightSelection != 0 && (estimator == kWvdsMcwvds || estimator == kWvdsMcds) && f.lightCount > 1;
     float selectionWeights[kWvdsMaxLights];
     float selectionTotal = 0.0f;
     for (int i = 0; i < kWvdsMaxLights; ++i)
         selectionWeights[i] = 0.0f;
 
-    for (int i = 0; i < f.lightCount && scatters; ++i) {
+    for (int i = 0; i < kWvdsMaxLights; ++i) {  // a constant bound, so that the per-light arrays need no indexing
+        if (i >= f.lightCount || !scatters) continue;
         WvdsLight light = wvdsLight(i);
         float a, b;
         if (!wvdsLitInterval(light, origin, dir, tIn, mediumEnd, a, b)) continue;
@@ -195,16 +207,16 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
             selectionTotal += selectionWeights[i];
             continue;
         }
-        if (f.estimator == kWvdsAnalytic) {
+        if (estimator == kWvdsAnalytic) {
             terms.direct += weight * analytic / f.pdfScale;
             continue;
         }
-        if (wvdsIsRatio(f.estimator)) {
+        if (wvdsIsRatio(estimator)) {
             terms.analytic[i] = weight * analytic / f.pdfScale;
             for (int k = 0; k < N; ++k) {
                 vec2 u = wvdsRandom2(k, first, rng);
                 float t, pdf;
-                if (f.estimator == kWvdsReds) {
+                if (estimator == kWvdsReds) {
                     t = wvdsDistanceSample_float(f.sigmaSample, a, b, u.y, pdf);
                 } else {
                     t = a + (float(k) + u.y) / float(N) * (b - a);
@@ -219,7 +231,7 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
         }
         for (int k = 0; k < N; ++k) {
             vec2 u = wvdsRandom2(k, first, rng);
-            terms.direct += wvdsMediumEstimate(f, light, weight, origin, dir, tIn, a, b, pieces, u.y, k, N, 1.0f) /
+            terms.direct += wvdsMediumEstimate(f, estimator, light, weight, origin, dir, tIn, a, b, pieces, u.y, k, N, 1.0f) /
                             float(N);
         }
     }
@@ -230,9 +242,15 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
             vec2 u = wvdsRandom2(k, first, rng);
             float target = u.x * selectionTotal, below = 0.0f;
             int chosen = -1;
-            for (int i = 0; i < f.lightCount; ++i) {
-                if (selectionWeights[i] > 0.0f) chosen = i;
-                if (target < below + selectionWeights[i]) break;
+            bool passed = false;
+            float probability = 0.0f;
+            for (int i = 0; i < kWvdsMaxLights; ++i) {
+                if (i >= f.lightCount || passed) continue;
+                if (selectionWeights[i] > 0.0f) {
+                    chosen = i;
+                    probability = selectionWeights[i] / selectionTotal;
+                }
+                passed = target < below + selectionWeights[i];
                 below += selectionWeights[i];
             }
             if (chosen < 0) continue;
@@ -242,8 +260,8 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
             WvdsPieces_float pieces;
             wvdsPieces_float(0, f.planeCount, origin, dir, light.toLight, tIn, a, b, pieces);
             vec3 weight = f.sigmaS * phaseEval(f.phase, dot(dir, light.toLight)) * light.irradiance;
-            terms.direct += wvdsMediumEstimate(f, light, weight, origin, dir, tIn, a, b, pieces, u.y, k, N,
-                                               selectionWeights[chosen] / selectionTotal) /
+            terms.direct += wvdsMediumEstimate(f, estimator, light, weight, origin, dir, tIn, a, b, pieces, u.y, k, N,
+                                               probability) /
                             float(N);
         }
     }

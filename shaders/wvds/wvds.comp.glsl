@@ -1,9 +1,12 @@
 #version 460
 // The WVDS technique on the GPU: one invocation per pixel adds one camera sample of the shared renderer
-// (shared/wvds_scene.h) to the pixel's accumulators. renderers/wvds/ compiles it at run time and may insert, after the
-// #version line,
-//   TY_BVH_WORDS   BVH arrays read as 64-bit words (needs shaderFloat64; the cheaper loads on lavapipe)
-// The build compiles this file as it is so that CI validates it with spirv-val.
+// (shared/wvds_scene.h) to the pixel's accumulators. renderers/wvds/ compiles variants at run time by inserting defines
+// after the #version line:
+//   TY_WVDS_ESTIMATOR k     one estimator (kWvds* in wvds_scene.h): the code and arrays of the others are left out
+//   TY_WVDS_MAX_PLANES n    arrays for at most n faces (6 for a box): loops unroll and the arrays stay in registers
+//   TY_PHASE_KIND k         the medium's phase function (kPhase* in phase.h): the other kinds are left out
+//   TY_BVH_WORDS            BVH arrays read as 64-bit words (needs shaderFloat64; the cheaper loads on lavapipe)
+// The build compiles this file as it is (every estimator, 16 faces, every phase function) so that CI validates it with spirv-val.
 #extension GL_GOOGLE_include_directive : require
 
 #define TY_BVH_NODES_BINDING 0
@@ -43,9 +46,13 @@ void main() {
     WvdsTerms terms = wvdsSample(frame, px, py, push.index);
     uint base = (pixel * 2u + (push.index & 1u)) * push.stride;
     accumulators[base] += vec4(terms.direct, 1.0);
-    for (uint l = 0u; l < push.ratioLights; ++l) {
-        accumulators[base + 1u + 3u * l] += vec4(terms.analytic[l], 0.0);
-        accumulators[base + 2u + 3u * l] += vec4(terms.numerator[l], 0.0);
-        accumulators[base + 3u + 3u * l] += vec4(terms.denominator[l], 0.0);
+#ifdef TY_WVDS_ESTIMATOR
+    if (!wvdsIsRatio(TY_WVDS_ESTIMATOR)) return;
+#endif
+    for (int l = 0; l < kWvdsMaxLights; ++l) {
+        if (uint(l) >= push.ratioLights) continue;
+        accumulators[base + 1u + 3u * uint(l)] += vec4(terms.analytic[l], 0.0);
+        accumulators[base + 2u + 3u * uint(l)] += vec4(terms.numerator[l], 0.0);
+        accumulators[base + 3u + 3u * uint(l)] += vec4(terms.denominator[l], 0.0);
     }
 }

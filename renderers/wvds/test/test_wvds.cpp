@@ -269,12 +269,13 @@ TEST(WvdsSampling, WholeVolumeSamplesMatchTheirPdf) {
             expected[i] = kSamples * integrate(pdf, a + i * width, a + (i + 1) * width, 1e-14, 1e-10);
         shader::Pcg32 rng = shader::pcg32Seed(11u, 3u);
         for (int k = 0; k < kSamples; ++k) {
-            float samplePdf;
-            const float t = shader::wvdsSample_float(pf, float(c.sigma), shader::pcg32NextFloat(rng), samplePdf);
+            float samplePdf, path;
+            const float t = shader::wvdsSample_float(pf, float(c.sigma), shader::pcg32NextFloat(rng), samplePdf, path);
             ASSERT_GE(t, a);
             ASSERT_LE(t, b);
-            // The pdf it returns is Eq. 11 at the sample.
+            // The pdf it returns is Eq. 11 at the sample, and the path length is P(t).
             ASSERT_NEAR(samplePdf, shader::wvdsPdf_float(pf, float(c.sigma), t), 1e-4 * samplePdf);
+            ASSERT_NEAR(path, shader::wvdsPathLength_float(pf, t), 1e-5f * (1.0f + path));
             observed[std::min(kBins - 1, int((t - a) / width))] += 1.0;
         }
         const auto chi = chiSquareTest(observed, expected);

@@ -1,0 +1,56 @@
+// Frame time of each WVDS estimator on the Fig. 6 project (projects/examples/wvds-box.json) at 512 x 512, one camera
+// sample per pixel:
+//   build/renderers/bench/tyndall_wvds_bench
+// - BM_WvdsGpu/estimator: GPU time of the render on the Vulkan device (lavapipe here), from its timestamps; the first
+//   render compiles the pipeline and is not timed. Targets on lavapipe: analytic <= 10 ms, mcwvds <= 100 ms.
+// - BM_WvdsCpu/estimator: wall time of the CPU path (every core).
+#include "tyndall/project.h"
+#include "tyndall/render.h"
+
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+using namespace tyndall;
+
+namespace {
+
+const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/wvds-box.json";
+const char* kEstimators[] = {"analytic", "mcwvds", "reds", "rees", "rm", "mcds"};
+
+RenderJob frameJob(const std::string& estimator, const std::string& device) {
+    const Project project =
+        loadProject(kProject, {"camera.width=512", "camera.height=512", "views[mcwvds].parameters.device=" + device,
+                               "views[mcwvds].parameters.estimator=" + estimator});
+    JobOptions options;
+    options.spp = 1;
+    return makeViewJob(project, kProject, "mcwvds", options);
+}
+
+void BM_WvdsGpu(benchmark::State& state) {
+    const std::string estimator = kEstimators[state.range(0)];
+    RenderJob job = frameJob(estimator, "gpu");
+    runJob(job);  // compiles the pipeline
+    double longest = 0.0;
+    for (auto _ : state) {
+        const RenderResult r = runJob(job);
+        state.SetIterationTime(std::stod(r.image.metadata.at("gpu:totalMs")) * 1e-3);
+        longest = std::stod(r.image.metadata.at("gpu:longestSliceMs"));
+    }
+    state.counters["longestSliceMs"] = longest;
+    state.SetLabel(estimator);
+}
+BENCHMARK(BM_WvdsGpu)->DenseRange(0, 5)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
+
+void BM_WvdsCpu(benchmark::State& state) {
+    const std::string estimator = kEstimators[state.range(0)];
+    RenderJob job = frameJob(estimator, "cpu");
+    for (auto _ : state)
+        benchmark::DoNotOptimize(runJob(job));
+    state.SetLabel(estimator);
+}
+BENCHMARK(BM_WvdsCpu)->DenseRange(0, 5)->Iterations(5)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
