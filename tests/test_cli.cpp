@@ -3,6 +3,7 @@
 #include "tyndall/project.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <sys/wait.h>
 #include <algorithm>
@@ -207,6 +208,44 @@ TEST(Cli, RendersThePegoraroExampleAndRefusesWhatItCannotRender) {
     EXPECT_EQ(precision.exitCode, 2) << precision.output;
     EXPECT_NE(precision.output.find("double"), std::string::npos) << precision.output;
     EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(Cli, RendersTheWvdsExampleAndWritesItsDistanceProbe) {
+    fs::path dir = scratch("wvds");
+    const std::string project = source("projects/examples/wvds-box.json");
+    const std::string exr = (dir / "box.exr").string();
+    CliRun r = tyndall("render '" + project + "' --view reds --size 24x18 --spp 4 --set " +
+                       "'views[reds].parameters.device=cpu' -o '" + exr + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    tyndall::Image image = tyndall::readImage(exr);
+    EXPECT_EQ(image.metadata.at("technique"), "wvds");
+    EXPECT_EQ(image.metadata.at("wvds:estimator"), "reds");
+    EXPECT_EQ(image.metadata.at("spp"), "4");
+    EXPECT_GE(image.channelIndex("variance.R"), 0);
+
+    const std::string csv = (dir / "probe.csv").string(), json = (dir / "probe.json").string();
+    CliRun p = tyndall("probe '" + project + "' --view mcwvds --probe distances --size 64x48 --pixel 30,20 --csv '" +
+                       csv + "' --json '" + json + "'");
+    ASSERT_EQ(p.exitCode, 0) << p.output;
+    EXPECT_NE(p.output.find("Sampled distances at pixel (30, 20)"), std::string::npos) << p.output;
+    std::ifstream in(json);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    ASSERT_EQ(j["series"].size(), 6u);
+    EXPECT_EQ(j["series"][0]["x"].size(), 256u);
+    std::ifstream csvIn(csv);
+    std::string header;
+    std::getline(csvIn, header);
+    EXPECT_EQ(header, "series,x,y");
+
+    CliRun unknown = tyndall("probe '" + project + "' --view mcwvds --probe polar --size 8x6");
+    EXPECT_EQ(unknown.exitCode, 2) << unknown.output;
+    EXPECT_NE(unknown.output.find("it has distances, convergence"), std::string::npos) << unknown.output;
+    CliRun outside = tyndall("probe '" + project + "' --view mcwvds --probe distances --size 8x6 --pixel 9,2");
+    EXPECT_EQ(outside.exitCode, 2) << outside.output;
+    CliRun estimator = tyndall("render '" + project + "' --view reds --size 8x6 --set " +
+                               "'views[reds].parameters.estimator=me' -o '" + (dir / "x.exr").string() + "'");
+    EXPECT_EQ(estimator.exitCode, 2) << estimator.output;
+    EXPECT_NE(estimator.output.find("mcwvds"), std::string::npos) << estimator.output;
 }
 
 TEST(Cli, CompareWritesMetricsAndADifferenceImage) {

@@ -74,12 +74,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         std::chrono::duration<double>(std::chrono::steady_clock::now() - compileStart).count();
     gpu::Context& ctx = *context_;
 
-    auto upload = [&](const auto& values) {
-        using T = typename std::decay_t<decltype(values)>::value_type;
-        auto b = std::make_unique<gpu::Buffer>(ctx, std::max<std::size_t>(values.size(), 1) * sizeof(T));
-        if (!values.empty()) b->upload(values);
-        return b;
-    };
+    auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
     auto nodes = upload(scene.bvh.nodes);
     auto triangles = upload(scene.bvh.triangles);
     auto frame = std::make_unique<gpu::Buffer>(ctx, sizeof(shader::PegoraroFrame));

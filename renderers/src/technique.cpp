@@ -65,8 +65,11 @@ ScenePart Technique::defaultPart(const Scene& scene) const {
 }
 
 ProbeResult Technique::probe(const RenderRequest&, const std::string& probeName, int, int) {
-    throw InputError(InputLocation{"", 0, 0, "probe"},
-                     "technique '" + name() + "' has no probe '" + probeName + "'; it has none");
+    std::string known;
+    for (const ProbeInfo& p : probes())
+        known += (known.empty() ? "" : ", ") + p.name;
+    throw InputError(InputLocation{"", 0, 0, "probe"}, "technique '" + name() + "' has no probe '" + probeName + "'; " +
+                                                           (known.empty() ? "it has none" : "it has " + known));
 }
 
 }  // namespace tyndall

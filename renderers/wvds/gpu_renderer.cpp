@@ -59,12 +59,7 @@ void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int s
     compileSeconds_ = 0.0;
     kernel_ = &kernel(scene.frame.estimator, scene.frame.planeCount, scene.frame.phase.kind);
     gpu::Context& ctx = *context_;
-    auto upload = [&](const auto& values) {
-        using T = typename std::decay_t<decltype(values)>::value_type;
-        auto b = std::make_unique<gpu::Buffer>(ctx, std::max<std::size_t>(values.size(), 1) * sizeof(T));
-        if (!values.empty()) b->upload(values);
-        return b;
-    };
+    auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
     buffers_.clear();
     buffers_.push_back(upload(scene.surfaces.bvh.nodes));
     buffers_.push_back(upload(scene.surfaces.bvh.triangles));

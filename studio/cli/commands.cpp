@@ -161,6 +161,43 @@ int render(const RenderArgs& args) {
     });
 }
 
+int probe(const ProbeArgs& args) {
+    return guarded([&] {
+        std::vector<std::string> sets = args.sets;
+        if (!args.size.empty()) addSizeOverrides(args.size, sets);
+        Project project = loadProject(args.project, sets);
+        JobOptions options;
+        options.spp = args.spp;
+        options.seed = args.seed;
+        RenderJob job = makeViewJob(project, args.project, args.view, options);
+        int x = project.scene.camera.width / 2, y = project.scene.camera.height / 2;
+        if (!args.pixel.empty()) {
+            char comma = 0, rest = 0;
+            std::istringstream in(args.pixel);
+            if (!(in >> x >> comma >> y) || comma != ',' || (in >> rest))
+                throw InputError(InputLocation{"", 0, 0, "--pixel"}, "'" + args.pixel + "' is not x,y, e.g. 120,80");
+        }
+        const ProbeResult r = job.technique->probe(job.request, args.probe, x, y);
+        nlohmann::json j;
+        j["title"] = r.title;
+        j["xLabel"] = r.xLabel;
+        j["yLabel"] = r.yLabel;
+        j["series"] = nlohmann::json::array();
+        std::string csv = "series,x,y\n";
+        for (const ProbeSeries& s : r.series) {
+            j["series"].push_back({{"label", s.label}, {"x", s.x}, {"y", s.y}});
+            for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
+                csv += "\"" + s.label + "\"," + formatNumber(s.x[i]) + "," + formatNumber(s.y[i]) + "\n";
+        }
+        std::printf("%s\n", r.title.c_str());
+        for (const ProbeSeries& s : r.series)
+            std::printf("  %-40s %zu points\n", s.label.c_str(), s.x.size());
+        if (!args.csv.empty()) writeTextAtomically(args.csv, csv, "--csv");
+        if (!args.json.empty()) writeTextAtomically(args.json, j.dump(2) + "\n", "--json");
+        return int(kOk);
+    });
+}
+
 int validate(const ValidateArgs& args) {
     int worst = kOk;
     for (const std::string& path : args.projects) {
@@ -277,6 +314,9 @@ int info(const InfoArgs& args) {
                 else if (p.type != ParamType::Bool) pj["range"] = {p.min, p.max};
                 t["parameters"].push_back(pj);
             }
+            t["probes"] = nlohmann::json::array();
+            for (const ProbeInfo& p : technique->probes())
+                t["probes"].push_back({{"name", p.name}, {"doc", p.doc}});
             j["techniques"].push_back(t);
         }
         if (args.json) {
@@ -302,6 +342,9 @@ int info(const InfoArgs& args) {
                             p["type"].get<std::string>().c_str(), p["default"].get<std::string>().c_str(),
                             allowed.c_str(), p["doc"].get<std::string>().c_str());
             }
+            for (const auto& p : t["probes"])
+                std::printf("      probe %-12s %s\n", p["name"].get<std::string>().c_str(),
+                            p["doc"].get<std::string>().c_str());
         }
         return int(kOk);
     });

@@ -42,6 +42,19 @@ struct CompareArgs {
 };
 int compare(const CompareArgs& args);
 
+struct ProbeArgs {
+    std::string project;
+    std::string view;
+    std::string probe;              // a probe of the view's technique, e.g. "distances"
+    std::string pixel;              // "x,y"
+    std::vector<std::string> sets;  // --set path=value
+    std::optional<int> spp;
+    std::string size;               // "WxH"
+    std::optional<std::uint64_t> seed;
+    std::string csv, json;          // output files
+};
+int probe(const ProbeArgs& args);
+
 struct InfoArgs {
     bool json = false;
 };

@@ -1,4 +1,5 @@
-// tyndall: the headless command line of Tyndall. Renders views and references, validates projects, compares images.
+// tyndall: the headless command line of Tyndall. Renders views and references, validates projects, compares images,
+// and reads techniques' probes.
 #include "commands.h"
 
 #include <CLI/CLI.hpp>
@@ -42,6 +43,19 @@ int main(int argc, char** argv) {
     compareCmd->add_option("--diff-kind", compare.diffKind, "signed, absolute or relative");
     compareCmd->add_option("--diff-scale", compare.diffScale, "difference at the ends of the colour map (default: 10% of the reference's mean luminance)");
 
+    ProbeArgs probe;
+    CLI::App* probeCmd = app.add_subcommand("probe", "the data behind a technique's plots at a pixel, e.g. sampled-distance histograms and pdfs");
+    probeCmd->add_option("project", probe.project, "project file (.json)")->required();
+    probeCmd->add_option("--view", probe.view, "the view whose technique and part of the scene to probe")->required();
+    probeCmd->add_option("--probe", probe.probe, "the probe's name (tyndall info lists them)")->required();
+    probeCmd->add_option("--pixel", probe.pixel, "x,y in pixels (default: the image centre)");
+    probeCmd->add_option("--set", probe.sets, "override a project field: path=value");
+    probeCmd->add_option("--spp", probe.spp, "samples per pixel, for probes that render");
+    probeCmd->add_option("--size", probe.size, "image size WIDTHxHEIGHT");
+    probeCmd->add_option("--seed", probe.seed, "random seed");
+    probeCmd->add_option("--csv", probe.csv, "write the series as CSV (series,x,y)");
+    probeCmd->add_option("--json", probe.json, "write the result as JSON");
+
     InfoArgs info;
     CLI::App* infoCmd = app.add_subcommand("info", "devices, version, techniques and their parameters");
     infoCmd->add_flag("--json", info.json, "print as JSON");
@@ -55,6 +69,7 @@ int main(int argc, char** argv) {
     if (renderCmd->parsed()) return tyndall::cli::render(render);
     if (validateCmd->parsed()) return tyndall::cli::validate(validate);
     if (compareCmd->parsed()) return tyndall::cli::compare(compare);
+    if (probeCmd->parsed()) return tyndall::cli::probe(probe);
     if (infoCmd->parsed()) return tyndall::cli::info(info);
     return kBadInput;
 }

@@ -16,6 +16,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -245,6 +247,9 @@ TEST(Bvh, ClosestHitAgreesWithEmbreeOnBundledProjects) {
         SCOPED_TRACE(scene.name);
         Bvh bvh = buildBvh(scene.meshes);
         BvhScope scope(bvh);
+        std::map<std::uint32_t, std::size_t> byId;
+        for (std::size_t k = 0; k < bvh.triangles.size(); ++k)
+            byId[bvh.triangles[k].id] = k;
         EmbreeTriangles embree(scene.meshes);
         RandomRays rays(scene.meshes, 12u);
         int hitCount = 0, disagreements = 0;
@@ -257,10 +262,16 @@ TEST(Bvh, ClosestHitAgreesWithEmbreeOnBundledProjects) {
             bool theirsFound = embree.intersect(origin, dir, tMax, theirs);
             hitCount += theirsFound ? 1 : 0;
             if (oursFound && theirsFound && std::abs(ours.t - theirs.t) <= 1e-4f * theirs.t) {
-                // The same triangle (coplanar overlapping faces may differ) must give the same barycentrics.
+                // The same triangle (coplanar overlapping faces may differ) must give the same barycentrics, up to
+                // how far apart the two hits may lie: within the t tolerance above they are |dt| apart in the plane at
+                // most, which moves a barycentric by |dt| over the triangle's altitude (at least half the shorter edge
+                // for the bundled meshes' triangles). The WVDS example's 8 m ground plane needs this.
                 if (ours.id == theirs.id) {
-                    EXPECT_NEAR(ours.uv.x, theirs.uv.x, 1e-4f) << "ray " << i;
-                    EXPECT_NEAR(ours.uv.y, theirs.uv.y, 1e-4f) << "ray " << i;
+                    const shader::BvhTriangle& tri = bvh.triangles[byId.at(ours.id)];
+                    const float shortEdge = std::sqrt(std::min(glm::dot(tri.e1, tri.e1), glm::dot(tri.e2, tri.e2)));
+                    const float tolerance = 1e-4f + 2.0f * std::abs(ours.t - theirs.t) / shortEdge;
+                    EXPECT_NEAR(ours.uv.x, theirs.uv.x, tolerance) << "ray " << i;
+                    EXPECT_NEAR(ours.uv.y, theirs.uv.y, tolerance) << "ray " << i;
                 }
                 continue;
             }

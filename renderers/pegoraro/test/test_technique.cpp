@@ -2,6 +2,7 @@
 // mode, the GPU path against the CPU path, the closed form on the GPU against the CPU (the GPU framework's harness),
 // and exact shadows against quadrature with a visibility test per sample.
 #include "closed_form_cases.h"
+#include "test/technique_gpu_test.h"
 
 #include "pegoraro/pegoraro.h"
 #include "pegoraro/prepared.h"
@@ -34,18 +35,7 @@ RenderResult renderView(const Project& project, const std::string& view, std::op
 }
 
 // Any validation error of the shared context fails the test that caused it.
-class PegoraroGpu : public ::testing::Test {
-protected:
-    void SetUp() override { before_ = gpu::sharedContext()->validationErrors().size(); }
-    void TearDown() override {
-        const std::vector<std::string> errors = gpu::sharedContext()->validationErrors();
-        for (std::size_t i = before_; i < errors.size(); ++i)
-            ADD_FAILURE() << "Vulkan validation error: " << errors[i];
-    }
-
-private:
-    std::size_t before_ = 0;
-};
+using PegoraroGpu = tyndall::test::TechniqueGpuTest;
 
 // relMSE of `image` against `reference` and the reference's own noise, mean(var / (r^2 + 0.01)), over every pixel
 // except the 3 x 3 blocks around the lights' projections (see below).

@@ -2,6 +2,7 @@
 // distance sampling against their pdfs (chi-square), every estimator against the reference in single scattering (and
 // a biased variant that must fail the same test), and the GPU path against the CPU path.
 #include "test/stats.h"
+#include "test/technique_gpu_test.h"
 
 #include "wvds/prepared.h"
 #include "wvds/wvds.h"
@@ -527,24 +528,7 @@ TEST(WvdsTechnique, DistanceProbeShowsHistogramsAndPdfs) {
 // ---------------------------------------------------------------------------------------------------------------------
 // GPU against CPU
 
-class WvdsGpu : public ::testing::Test {
-protected:
-    void SetUp() override {
-        try {
-            before_ = gpu::sharedContext()->validationErrors().size();
-        } catch (const gpu::GpuError& e) {
-            GTEST_SKIP() << "no Vulkan device: " << e.what();
-        }
-    }
-    void TearDown() override {
-        const std::vector<std::string> errors = gpu::sharedContext()->validationErrors();
-        for (std::size_t i = before_; i < errors.size(); ++i)
-            ADD_FAILURE() << "Vulkan validation error: " << errors[i];
-    }
-
-private:
-    std::size_t before_ = 0;
-};
+using WvdsGpu = tyndall::test::TechniqueGpuTest;
 
 // The same samples on both paths: the shared code in float, so the images agree to float roundoff except where a
 // shadow ray grazes an edge and the two sides decide differently (a handful of pixels). Bound: relMSE <= 1e-8 and

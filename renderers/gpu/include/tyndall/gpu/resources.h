@@ -3,7 +3,9 @@
 
 #include "tyndall/gpu/context.h"
 
+#include <algorithm>
 #include <cstddef>
+#include <memory>
 #include <cstring>
 #include <vector>
 
@@ -42,6 +44,14 @@ private:
     VkDeviceSize size_ = 0;
     void* mapped_ = nullptr;  // non-null for host-visible memory
 };
+
+// A storage buffer holding `values` (at least one element's room, so that an empty array still binds).
+template <typename T>
+std::unique_ptr<Buffer> uploadBuffer(Context& context, const std::vector<T>& values) {
+    auto buffer = std::make_unique<Buffer>(context, VkDeviceSize(std::max<std::size_t>(values.size(), 1) * sizeof(T)));
+    if (!values.empty()) buffer->upload(values);
+    return buffer;
+}
 
 // A compute pipeline whose set 0 holds `bindingCount` storage buffers (binding i = buffers[i]) and whose push constant
 // block has `pushConstantBytes` bytes.
