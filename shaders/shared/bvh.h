@@ -21,8 +21,7 @@
 //            return bvhTriangleFromWords(bvhWords(bvhTriangles[3 * i]), bvhWords(bvhTriangles[3 * i + 1]),
 //                                        bvhWords(bvhTriangles[3 * i + 2]));
 //        }
-// The traversal is written to read as few components as it can: each step reads the two children of the node in
-// hand, nothing else.
+// The traversal needs no stack: each node carries the link to the next subtree (see BvhNode).
 // Model: nvpro-samples' ray_tracing__simple/shaders/host_device.h (one declaration of the layout for both sides).
 #ifndef TY_SHARED_BVH_H
 #define TY_SHARED_BVH_H
@@ -31,14 +30,16 @@
 
 TY_BEGIN
 
-// A node of the BVH, 32 bytes. The root is node 0. An interior node (count == 0) has its two children next to each
+// A node of the BVH, 32 bytes. The root is node 0. An interior node (count 0) has its two children next to each
 // other at leftOrFirst and leftOrFirst + 1; a leaf (count > 0) holds triangles leftOrFirst .. leftOrFirst + count - 1.
+// Each node also carries its miss link: the node a depth-first traversal visits after this node's subtree (its right
+// sibling, or the miss link of its parent; 0, the root, for none), so that traversals need no stack (bvhTraverse).
 // An empty BVH is a lone root with empty bounds (boundsMin > boundsMax), which no ray enters.
 struct BvhNode {
-    vec3 boundsMin;   // m, world space
-    int leftOrFirst;  // interior: index of the first child; leaf: index of the first triangle
-    vec3 boundsMax;   // m, world space
-    int count;        // triangles in a leaf, [1, kBvhMaxLeafSize]; 0 for an interior node
+    vec3 boundsMin;    // m, world space
+    int leftOrFirst;   // interior: index of the first child; leaf: index of the first triangle
+    vec3 boundsMax;    // m, world space
+    int countAndMiss;  // bits 0-2: triangles in a leaf, [1, kBvhMaxLeafSize], 0 for an interior node; bits 3-31: miss
 };
 
 // A triangle as Moeller-Trumbore wants it, 48 bytes: a vertex and the two edges from it, in the input's winding, so
@@ -60,8 +61,9 @@ struct BvhHit {
 };
 
 TY_CONST int kBvhMaxLeafSize = 4;
-// Entries of the traversal stack; the builder keeps the tree shallower than this, so the stack never overflows.
-TY_CONST int kBvhStackSize = 64;
+TY_CONST int kBvhCountBits = 3;  // of countAndMiss; holds kBvhMaxLeafSize
+// The builder keeps the tree at most this deep.
+TY_CONST int kBvhMaxDepth = 64;
 
 // What bvhBoxEntry returns for a box the ray misses: FLT_MAX, like kInfinity in constants.h.
 TY_CONST float kBvhMiss = 3.402823466e38f;
@@ -77,8 +79,18 @@ TY_FUNC BvhNode bvhNodeFromWords(TY_IN(uvec4) lo, TY_IN(uvec4) hi) {
     node.boundsMin = uintBitsToFloat(uvec3(lo.x, lo.y, lo.z));
     node.leftOrFirst = int(lo.w);
     node.boundsMax = uintBitsToFloat(uvec3(hi.x, hi.y, hi.z));
-    node.count = int(hi.w);
+    node.countAndMiss = int(hi.w);
     return node;
+}
+
+// Triangles in a leaf; 0 for an interior node.
+TY_FUNC int bvhCount(TY_IN(BvhNode) node) {
+    return node.countAndMiss & ((1 << kBvhCountBits) - 1);
+}
+
+// The node after this one's subtree in depth-first order; 0 when there is none.
+TY_FUNC int bvhMiss(TY_IN(BvhNode) node) {
+    return node.countAndMiss >> kBvhCountBits;
 }
 
 // A triangle from its twelve 32-bit words in memory order (words 0-3 in a, 4-7 in b, 8-11 in c).
@@ -134,34 +146,27 @@ TY_FUNC bool bvhTriangleHit(TY_IN(BvhTriangle) tri, TY_IN(vec3) origin, TY_IN(ve
     return t > tMin && t < tMax;
 }
 
-// The traversal behind bvhOccluded and bvhIntersect: depth first, one node per iteration of a single loop. For the
-// closest hit (anyHit false) the nearer child is visited first and the farther one waits on a fixed stack with its
-// entry distance, so that it is skipped once a closer hit is known. With anyHit it returns at the first hit (which need
-// not be the closest), so it keeps no order and no entry distances: the children are visited in their stored order.
-// anyHit is a constant at both call sites, so the branches on it fold away. dir need not be unit length; t is in units
-// of |dir|.
+// The traversal behind bvhOccluded and bvhIntersect: depth first along the miss links, one node per iteration and no
+// stack. A node whose box the ray enters (before the closest hit so far) continues with its first child, or tests its
+// triangles and continues with its miss link; a box it misses continues with the miss link. With anyHit it returns at
+// the first hit (which need not be the closest). Children are visited in their stored order, not nearest first: a
+// stack to order them costs more than it saves on devices without fast private memory (on lavapipe, arrays indexed at
+// run time live in memory). anyHit is a constant at both call sites, so the branches on it fold away. dir need not be
+// unit length; t is in units of |dir|.
 TY_FUNC bool bvhTraverse(TY_IN(vec3) origin, TY_IN(vec3) dir, float tMin, float tMax, bool anyHit, TY_OUT(BvhHit) hit) {
     vec3 invDir = vec3(bvhSafeInverse(dir.x), bvhSafeInverse(dir.y), bvhSafeInverse(dir.z));
     hit.t = tMax;
     hit.id = 0u;
     hit.uv = vec2(0.0f);
     bool found = false;
-    BvhNode root = bvhNode(0);
-    if (bvhBoxEntry(root, origin, invDir, tMin, tMax) == kBvhMiss) return false;
-
-    // The node being visited is held as its (leftOrFirst, count), read together with its bounds when its parent was
-    // visited, so that each step reads only the two children. The stack holds the same pairs.
-    int stackFirst[kBvhStackSize];
-    int stackCount[kBvhStackSize];
-    float stackEntry[kBvhStackSize];  // only for the closest hit
-    int top = 0;
-    int first = root.leftOrFirst;
-    int count = root.count;
-    bool visiting = true;
-    while (visiting) {
-        visiting = false;
-        if (count > 0) {
-            for (int i = first; i < first + count; ++i) {
+    int index = 0;
+    do {
+        BvhNode node = bvhNode(index);
+        int next = bvhMiss(node);
+        if (bvhBoxEntry(node, origin, invDir, tMin, hit.t) != kBvhMiss) {
+            int count = bvhCount(node);
+            if (count == 0) next = node.leftOrFirst;
+            for (int i = node.leftOrFirst; i < node.leftOrFirst + count; ++i) {
                 BvhTriangle tri = bvhTriangle(i);
                 float t;
                 vec2 uv;
@@ -173,46 +178,9 @@ TY_FUNC bool bvhTraverse(TY_IN(vec3) origin, TY_IN(vec3) dir, float tMin, float 
                     if (anyHit) return true;
                 }
             }
-        } else {
-            BvhNode nearNode = bvhNode(first);
-            BvhNode farNode = bvhNode(first + 1);
-            float entryNear = bvhBoxEntry(nearNode, origin, invDir, tMin, hit.t);
-            float entryFar = bvhBoxEntry(farNode, origin, invDir, tMin, hit.t);
-            if (!anyHit && entryFar < entryNear) {
-                BvhNode swapNode = nearNode;
-                nearNode = farNode;
-                farNode = swapNode;
-                float swapEntry = entryNear;
-                entryNear = entryFar;
-                entryFar = swapEntry;
-            }
-            if (entryNear == kBvhMiss) {
-                nearNode = farNode;
-                entryNear = entryFar;
-                entryFar = kBvhMiss;
-            }
-            if (entryFar != kBvhMiss && top < kBvhStackSize) {
-                stackFirst[top] = farNode.leftOrFirst;
-                stackCount[top] = farNode.count;
-                if (!anyHit) stackEntry[top] = entryFar;
-                ++top;
-            }
-            if (entryNear != kBvhMiss) {
-                first = nearNode.leftOrFirst;
-                count = nearNode.count;
-                visiting = true;
-            }
         }
-        while (!visiting && top > 0) {
-            --top;
-            // Skipped when a closer hit was found since the node was pushed.
-            if (anyHit || stackEntry[top] <= hit.t) {
-                first = stackFirst[top];
-                count = stackCount[top];
-                visiting = true;
-            }
-        }
-    }
+        index = next;
+    } while (index != 0);
     return found;
 }
 

@@ -198,7 +198,7 @@ TY_FUNC bool litBoxOverlapsWindow(TY_IN(BvhNode) node, TY_IN(LitWindow) w) {
 // the whole segment is shadowed (or t0 == t1). kLitOverflow when, at some step, the pieces would have been more than
 // kMaxLitIntervals (lit.pieces is then undefined). dir need not be unit length; t is in units of |dir|.
 // The traversal is depth first over the nodes whose boxes may meet the window W of what is still lit (litWindow),
-// with a fixed stack like bvhTraverse's; it stops as soon as nothing is lit.
+// along the miss links like bvhTraverse's; it stops as soon as nothing is lit.
 TY_FUNC int litIntervals(TY_IN(vec3) light, TY_IN(vec3) origin, TY_IN(vec3) dir, float t0, float t1,
                          TY_OUT(LitIntervals) lit) {
     lit.pieces[0] = vec2(t0, t1);
@@ -207,23 +207,15 @@ TY_FUNC int litIntervals(TY_IN(vec3) light, TY_IN(vec3) origin, TY_IN(vec3) dir,
     float minPiece = kLitMinPiece * max(abs(t0), abs(t1));
     LitWindow window = litWindow(light, origin, dir, t0, t1);
 
-    int stack[kBvhStackSize];
-    int top = 0;
+    // Depth first along the miss links (bvh.h), without a stack.
     int node = 0;
-    bool visiting = true;
-    while (visiting) {
+    do {
         BvhNode current = bvhNode(node);
+        int next = bvhMiss(current);
         if (litBoxOverlapsWindow(current, window)) {
-            if (current.count == 0) {
-                // Interior: visit the first child now, the second later.
-                if (top < kBvhStackSize) {
-                    stack[top] = current.leftOrFirst + 1;
-                    ++top;
-                }
-                node = current.leftOrFirst;
-                continue;
-            }
-            for (int i = current.leftOrFirst; i < current.leftOrFirst + current.count; ++i) {
+            int triangles = bvhCount(current);
+            if (triangles == 0) next = current.leftOrFirst;  // interior: its first child, then the rest
+            for (int i = current.leftOrFirst; i < current.leftOrFirst + triangles; ++i) {
                 vec2 shadow;
                 if (litShadowInterval(bvhTriangle(i), light, origin, dir, lit.pieces[0].x, lit.pieces[count - 1].y,
                                       shadow)) {
@@ -232,14 +224,10 @@ TY_FUNC int litIntervals(TY_IN(vec3) light, TY_IN(vec3) origin, TY_IN(vec3) dir,
                 }
             }
             // What is still lit may have shrunk: so does the window.
-            window = litWindow(light, origin, dir, lit.pieces[0].x, lit.pieces[count - 1].y);
+            if (triangles > 0) window = litWindow(light, origin, dir, lit.pieces[0].x, lit.pieces[count - 1].y);
         }
-        visiting = top > 0;
-        if (visiting) {
-            --top;
-            node = stack[top];
-        }
-    }
+        node = next;
+    } while (node != 0);
     return count;
 }
 

@@ -22,7 +22,7 @@ static_assert(sizeof(BvhNode) == 32);
 static_assert(offsetof(BvhNode, boundsMin) == 0);
 static_assert(offsetof(BvhNode, leftOrFirst) == 12);
 static_assert(offsetof(BvhNode, boundsMax) == 16);
-static_assert(offsetof(BvhNode, count) == 28);
+static_assert(offsetof(BvhNode, countAndMiss) == 28);
 static_assert(std::is_standard_layout_v<BvhTriangle> && std::is_trivially_copyable_v<BvhTriangle>);
 static_assert(sizeof(BvhTriangle) == 48);
 static_assert(offsetof(BvhTriangle, v0) == 0);
@@ -38,8 +38,8 @@ constexpr int kBins = 16;
 // Costs of the surface area heuristic, relative to one ray/triangle test.
 constexpr float kTraversalCost = 1.0f;
 // From this depth on, nodes split at the object median, which halves the triangle count: whatever the geometry, the
-// tree then stays within kBvhStackSize levels (2^32 triangles need 32 more), so the traversal stack cannot overflow.
-constexpr int kMedianDepth = shader::kBvhStackSize - 32;
+// tree then stays within kBvhMaxDepth levels (2^32 triangles need 32 more).
+constexpr int kMedianDepth = shader::kBvhMaxDepth - 32;
 
 struct Box {
     glm::vec3 lo{std::numeric_limits<float>::max()};
@@ -102,6 +102,7 @@ public:
             buildNode(0, 0, int(n), 0);
         }
 
+        linkMisses();
         bvh.nodes = std::move(nodes_);
         bvh.triangles.reserve(n);
         bvh.triangleIds = order_;
@@ -114,6 +115,29 @@ public:
     }
 
 private:
+    // Packs each node's miss link next to its triangle count: the right sibling for a first child, the parent's link
+    // for a second child, 0 (none) for the root.
+    void linkMisses() {
+        if (nodes_.size() == 1) return;  // a lone root (a leaf, or empty): nothing follows it
+        if (nodes_.size() >= (std::size_t(1) << (31 - shader::kBvhCountBits)))
+            throw ContractError("buildBvh: " + std::to_string(nodes_.size()) + " nodes are more than a link can name");
+        struct Pending {
+            int node, miss;
+        };
+        std::vector<Pending> todo{{0, 0}};
+        while (!todo.empty()) {
+            const Pending p = todo.back();
+            todo.pop_back();
+            BvhNode& node = nodes_[std::size_t(p.node)];
+            const int count = node.countAndMiss;  // the builder stores the bare count
+            node.countAndMiss = count | (p.miss << shader::kBvhCountBits);
+            if (count == 0) {
+                todo.push_back({node.leftOrFirst, node.leftOrFirst + 1});
+                todo.push_back({node.leftOrFirst + 1, p.miss});
+            }
+        }
+    }
+
     static int binOf(float centroid, float lo, float scale) {
         return std::clamp(int((centroid - lo) * scale), 0, kBins - 1);
     }
@@ -196,7 +220,7 @@ private:
         const int left = int(nodes_.size());
         nodes_.resize(nodes_.size() + 2);
         nodes_[nodeIndex].leftOrFirst = left;
-        nodes_[nodeIndex].count = 0;
+        nodes_[nodeIndex].countAndMiss = 0;
         buildNode(left, begin, middle, depth + 1);
         buildNode(left + 1, middle, end, depth + 1);
     }

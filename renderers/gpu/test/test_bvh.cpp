@@ -66,11 +66,12 @@ void expectValidTree(const Bvh& bvh, const std::vector<vec3>& positions, const s
         ++nodeSeen[std::size_t(e.node)];
         maxDepth = std::max(maxDepth, e.depth);
         const shader::BvhNode& node = bvh.nodes[std::size_t(e.node)];
-        if (node.count > 0) {
-            ASSERT_LE(node.count, shader::kBvhMaxLeafSize);
+        const int count = shader::bvhCount(node);
+        if (count > 0) {
+            ASSERT_LE(count, shader::kBvhMaxLeafSize);
             ASSERT_GE(node.leftOrFirst, 0);
-            ASSERT_LE(std::size_t(node.leftOrFirst + node.count), bvh.triangles.size());
-            for (int i = node.leftOrFirst; i < node.leftOrFirst + node.count; ++i) {
+            ASSERT_LE(std::size_t(node.leftOrFirst + count), bvh.triangles.size());
+            for (int i = node.leftOrFirst; i < node.leftOrFirst + count; ++i) {
                 ++referencedByLeaf[std::size_t(i)];
                 const shader::BvhTriangle& tri = bvh.triangles[std::size_t(i)];
                 ASSERT_LT(tri.id, triangles.size());
@@ -82,7 +83,7 @@ void expectValidTree(const Bvh& bvh, const std::vector<vec3>& positions, const s
                 }
             }
         } else {
-            ASSERT_EQ(node.count, 0);
+            ASSERT_EQ(count, 0);
             for (int c = node.leftOrFirst; c < node.leftOrFirst + 2; ++c) {
                 ASSERT_GT(c, e.node);
                 ASSERT_LT(std::size_t(c), bvh.nodes.size());
@@ -93,9 +94,24 @@ void expectValidTree(const Bvh& bvh, const std::vector<vec3>& positions, const s
             }
         }
     }
-    EXPECT_LE(maxDepth, shader::kBvhStackSize);
+    EXPECT_LE(maxDepth, shader::kBvhMaxDepth);
     for (int seen : nodeSeen)
         EXPECT_EQ(seen, 1);
+    // The miss links thread the tree in depth-first order: entering every box, the traversal visits each node once,
+    // every child after its parent, and ends at the root's link, 0.
+    std::vector<int> visits(bvh.nodes.size(), 0);
+    int index = 0, steps = 0;
+    do {
+        ASSERT_LT(std::size_t(index), bvh.nodes.size());
+        ++visits[std::size_t(index)];
+        const shader::BvhNode& node = bvh.nodes[std::size_t(index)];
+        const int next = shader::bvhCount(node) == 0 ? node.leftOrFirst : shader::bvhMiss(node);
+        ASSERT_TRUE(next == 0 || next > index || shader::bvhCount(node) > 0) << "node " << index;
+        index = next;
+        ASSERT_LE(++steps, int(bvh.nodes.size()));
+    } while (index != 0);
+    for (int v : visits)
+        EXPECT_EQ(v, 1);
     for (int n : referencedByLeaf)
         EXPECT_EQ(n, 1);
 
