@@ -32,8 +32,8 @@ public:
     double compileSeconds() const { return compileSeconds_; }  // of the current render's variant (0 when cached)
 
 private:
-    // The variant for an estimator, a number of faces and a phase function, compiled on first use.
-    gpu::ComputeKernel& kernel(int estimator, int planeCount, int phaseKind);
+    // The variant for an estimator, a number of faces (or a box) and a phase function, compiled on first use.
+    gpu::ComputeKernel& kernel(int estimator, int planeCount, bool box, int phaseKind);
 
     std::shared_ptr<gpu::Context> context_;
     std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels_;

@@ -78,6 +78,7 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, std::ui
     for (const HalfSpace& h : halfSpaces)
         p.planes.push_back(plane(h.normal, h.offset));
     f.planeCount = int(p.planes.size());
+    p.box = m.shape == MediumShape::Box;
     f.sigmaS = glm::vec3(m.sigma_s);
     f.sigmaT = glm::vec3(m.sigma_t());
     f.sigmaSample = (f.sigmaT.x + f.sigmaT.y + f.sigmaT.z) / 3.0f;

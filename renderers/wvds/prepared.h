@@ -36,6 +36,7 @@ struct PreparedScene {
     std::vector<glm::vec4> planes;  // the medium's, then each light's beam planes
     std::vector<shader::WvdsLight> lights;
     GpuSurfaces surfaces;
+    bool box = false;  // the medium is a box: planes in pairs of opposite normals (shaders may use TY_WVDS_BOX)
 };
 
 // Throws InputError for scene content the technique cannot render (checked by the technique before) or that is

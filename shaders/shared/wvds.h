@@ -28,11 +28,18 @@ TY_BEGIN
 // Faces of the medium (6 for a box) and pieces of d_m along a ray (at most one per face with dot(n, l) > 0). A shader
 // may lower TY_WVDS_MAX_PLANES before including this header: its loops then unroll and its arrays stay in registers,
 // which on lavapipe halves the cost of a sample (arrays indexed at run time live in memory there).
+// TY_WVDS_BOX says the medium is a box, its planes in pairs of opposite normals (boxHalfSpaces): of each pair only the
+// face towards the light counts, so the envelope has 3 lines and at most 3 segments.
 #ifndef TY_WVDS_MAX_PLANES
 #define TY_WVDS_MAX_PLANES 16
 #endif
 TY_CONST int kWvdsMaxPlanes = TY_WVDS_MAX_PLANES;
-TY_CONST int kWvdsMaxSegments = TY_WVDS_MAX_PLANES;
+#ifdef TY_WVDS_BOX
+TY_CONST int kWvdsLines = 3;
+#else
+TY_CONST int kWvdsLines = TY_WVDS_MAX_PLANES;
+#endif
+TY_CONST int kWvdsMaxSegments = kWvdsLines;
 
 vec4 wvdsPlane(int i);  // supplied by the includer (see above)
 

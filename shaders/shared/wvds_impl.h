@@ -73,14 +73,21 @@ struct TY_RS(WvdsPieces) {
 // registers; the current and the next line are carried as values.
 TY_FUNC int TY_RS(wvdsPieces)(int first, int count, TY_IN(TY_R3) o, TY_IN(TY_R3) d, TY_IN(TY_R3) l, TY_R tIn, TY_R a,
                               TY_R b, TY_OUT(TY_RS(WvdsPieces)) pieces) {
-    TY_R alpha[kWvdsMaxPlanes];
-    TY_R beta[kWvdsMaxPlanes];
+    TY_R alpha[kWvdsLines];
+    TY_R beta[kWvdsLines];
     bool any = false;
-    for (int i = 0; i < kWvdsMaxPlanes; ++i) {
+    for (int i = 0; i < kWvdsLines; ++i) {
         alpha[i] = TY_R(kInfinity);
         beta[i] = TY_R(0.0f);
+#ifdef TY_WVDS_BOX
+        // The face of pair i that faces the light (the other's normal is the opposite).
+        vec4 plane = wvdsPlane(first + 2 * i);
+        vec4 opposite = wvdsPlane(first + 2 * i + 1);
+        if (dot(TY_R3(vec3(plane)), l) <= TY_R(0.0f)) plane = opposite;
+#else
         if (i >= count) continue;
         vec4 plane = wvdsPlane(first + i);
+#endif
         TY_R3 n = TY_R3(vec3(plane));
         TY_R nl = dot(n, l);
         if (nl <= TY_R(0.0f)) continue;  // the light ray cannot leave through this face
@@ -100,7 +107,7 @@ TY_FUNC int TY_RS(wvdsPieces)(int first, int count, TY_IN(TY_R3) o, TY_IN(TY_R3)
     // The lowest line at a (ties: the one that stays lowest, the smaller slope).
     TY_R curAlpha = alpha[0], curBeta = beta[0];
     TY_R best = alpha[0] + beta[0] * a;
-    for (int i = 1; i < kWvdsMaxPlanes; ++i) {
+    for (int i = 1; i < kWvdsLines; ++i) {
         TY_R v = alpha[i] + beta[i] * a;
         if (v < best || (v == best && beta[i] < curBeta)) {
             best = v;
@@ -115,7 +122,7 @@ TY_FUNC int TY_RS(wvdsPieces)(int first, int count, TY_IN(TY_R3) o, TY_IN(TY_R3)
         // The next corner: the first line with a smaller slope to cross the current one after t.
         TY_R next = b, nextAlpha = curAlpha, nextBeta = curBeta;
         bool turns = false;
-        for (int i = 0; i < kWvdsMaxPlanes; ++i) {
+        for (int i = 0; i < kWvdsLines; ++i) {
             if (!(beta[i] < curBeta)) continue;
             TY_R tx = (alpha[i] - curAlpha) / (curBeta - beta[i]);
             if (tx > t && (tx < next || (tx == next && turns && beta[i] < nextBeta))) {

@@ -200,8 +200,9 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
         WvdsPieces_float pieces;
         wvdsPieces_float(0, f.planeCount, origin, dir, light.toLight, tIn, a, b, pieces);
         vec3 weight = f.sigmaS * phaseEval(f.phase, dot(dir, light.toLight)) * light.irradiance;
-        vec3 analytic = vec3(wvdsTotal_float(pieces, f.sigmaT.x), wvdsTotal_float(pieces, f.sigmaT.y),
-                             wvdsTotal_float(pieces, f.sigmaT.z));
+        vec3 analytic = vec3(wvdsTotal_float(pieces, f.sigmaT.x));
+        if (f.sigmaT.y != f.sigmaT.x || f.sigmaT.z != f.sigmaT.x)  // chromatic: one integral per channel
+            analytic = vec3(analytic.x, wvdsTotal_float(pieces, f.sigmaT.y), wvdsTotal_float(pieces, f.sigmaT.z));
         if (select) {
             selectionWeights[i] = wvdsMean(weight * analytic);
             selectionTotal += selectionWeights[i];
