@@ -1,0 +1,225 @@
+#include "compositor.h"
+
+#include "tyndall/image_io.h"
+
+#include <QPainter>
+
+#include <algorithm>
+#include <cmath>
+
+namespace tyndall::studio {
+
+namespace {
+
+constexpr int kLabelHeight = 36;  // px under each image for its label
+
+double luminance(const Image& image, int x, int y) {
+    return 0.2126 * image.at(x, y, 0) + 0.7152 * image.at(x, y, 1) + 0.0722 * image.at(x, y, 2);
+}
+
+// The largest rectangle of the image's aspect ratio inside `cell`, centred.
+QRect fit(QSize imageSize, QRect cell) {
+    if (imageSize.isEmpty() || cell.isEmpty()) return {};
+    const double scale = std::min(double(cell.width()) / imageSize.width(), double(cell.height()) / imageSize.height());
+    const QSize s(std::max(1, int(imageSize.width() * scale)), std::max(1, int(imageSize.height() * scale)));
+    return QRect(cell.x() + (cell.width() - s.width()) / 2, cell.y() + (cell.height() - s.height()) / 2, s.width(),
+                 s.height());
+}
+
+QSize imageSizeOf(const std::vector<ViewFrame>& frames) {
+    for (const ViewFrame& f : frames) {
+        if (f.image) return QSize(f.image->width(), f.image->height());
+        if (f.reference) return QSize(f.reference->width(), f.reference->height());
+    }
+    return QSize(4, 3);
+}
+
+// The cells of the layout: a grid of N views, or one.
+std::vector<QRect> cells(const std::vector<ViewFrame>& frames, const CompositorState& state, QSize size) {
+    std::vector<QRect> out(frames.size());
+    if (frames.empty()) return out;
+    const QSize imageSize = imageSizeOf(frames);
+    if (state.layout != Layout::Grid) {
+        const int current = std::clamp(state.current, 0, int(frames.size()) - 1);
+        out[std::size_t(current)] = fit(imageSize, QRect(0, 0, size.width(), size.height() - kLabelHeight));
+        return out;
+    }
+    // The grid of columns x rows that shows the images largest.
+    const int n = int(frames.size());
+    int bestColumns = 1;
+    double bestScale = 0.0;
+    for (int columns = 1; columns <= n; ++columns) {
+        const int rows = (n + columns - 1) / columns;
+        const double scale = std::min(double(size.width()) / columns / imageSize.width(),
+                                      double(size.height() / rows - kLabelHeight) / imageSize.height());
+        if (scale > bestScale) {
+            bestScale = scale;
+            bestColumns = columns;
+        }
+    }
+    const int rows = (n + bestColumns - 1) / bestColumns;
+    const int cellWidth = size.width() / bestColumns, cellHeight = size.height() / rows;
+    for (int i = 0; i < n; ++i) {
+        const QRect cell((i % bestColumns) * cellWidth, (i / bestColumns) * cellHeight, cellWidth,
+                         cellHeight - kLabelHeight);
+        out[std::size_t(i)] = fit(imageSize, cell);
+    }
+    return out;
+}
+
+QImage differenceDisplay(const Image& image, const Image& reference, DiffMode mode, double scale) {
+    const DifferenceKind kind = mode == DiffMode::Signed     ? DifferenceKind::Signed
+                                : mode == DiffMode::Absolute ? DifferenceKind::Absolute
+                                                             : DifferenceKind::Relative;
+    const double s = mode == DiffMode::Relative ? 0.1 : scale;  // relative error: 10 % at the map's end
+    return toDisplay(differenceImage(image, reference, kind, s), 0.0);
+}
+
+QString number(double v) {
+    return QString::number(v, 'g', 3);
+}
+
+QString labelOf(const ViewFrame& f, bool reference) {
+    QString line = f.name + "  -  " + (reference ? QString("reference") : f.technique);
+    if (reference) {
+        if (f.reference) line += QString("  %1 spp").arg(f.referenceSpp);
+    } else if (f.image) {
+        line += QString("  %1 ms").arg(f.seconds * 1e3, 0, 'f', 0);
+        if (f.spp > 1) line += QString("  %1 spp").arg(f.spp);
+    }
+    if (f.rendering) line += "  (rendering)";
+    if (!f.error.isEmpty()) line = f.name + "  -  " + f.error.left(120);
+    return line;
+}
+
+QString metricsLine(const ViewFrame& f) {
+    if (!f.metrics) return {};
+    QString line = "relMSE " + number(f.metrics->relMSE) + "  PSNR " + number(f.metrics->psnr) + " dB";
+    if (f.metrics->referenceNoiseRelMSE) line += "  ref. noise " + number(*f.metrics->referenceNoiseRelMSE);
+    return line;
+}
+
+void drawLabel(QPainter& p, QRect imageRect, const QString& top, const QString& bottom) {
+    p.setPen(QColor(230, 230, 230));
+    QFont font = p.font();
+    font.setPixelSize(12);
+    p.setFont(font);
+    const QRect r(imageRect.x(), imageRect.bottom() + 3, std::max(imageRect.width(), 200), 14);
+    p.drawText(r, Qt::AlignLeft | Qt::AlignVCenter, top);
+    if (!bottom.isEmpty()) p.drawText(r.translated(0, 15), Qt::AlignLeft | Qt::AlignVCenter, bottom);
+}
+
+void drawColourBar(QPainter& p, QSize size, DiffMode mode, double scale) {
+    const int width = std::min(256, size.width() / 3), height = 10;
+    const QRect bar(size.width() - width - 12, size.height() - height - 20, width, height);
+    for (int x = 0; x < width; ++x) {
+        const double t = (x + 0.5) / width;
+        const Rgb c = mode == DiffMode::Signed ? diverging(t) : viridis(t);
+        p.setPen(QColor(int(srgbEncode(float(c.r)) * 255.0f + 0.5f), int(srgbEncode(float(c.g)) * 255.0f + 0.5f),
+                        int(srgbEncode(float(c.b)) * 255.0f + 0.5f)));
+        p.drawLine(bar.x() + x, bar.y(), bar.x() + x, bar.bottom());
+    }
+    p.setPen(QColor(230, 230, 230));
+    const double end = mode == DiffMode::Relative ? 0.1 : scale;
+    const QString left = mode == DiffMode::Signed ? "-" + number(end) : "0";
+    const QString name = mode == DiffMode::Signed ? "signed" : mode == DiffMode::Absolute ? "absolute" : "relative";
+    p.drawText(QRect(bar.x(), bar.bottom() + 2, width, 14), Qt::AlignLeft, left);
+    p.drawText(QRect(bar.x(), bar.bottom() + 2, width, 14), Qt::AlignHCenter, name);
+    p.drawText(QRect(bar.x(), bar.bottom() + 2, width, 14), Qt::AlignRight, number(end));
+}
+
+}  // namespace
+
+QImage toDisplay(const Image& image, double exposure) {
+    QImage out(image.width(), image.height(), QImage::Format_RGBA8888);
+    for (int y = 0; y < image.height(); ++y) {
+        uchar* row = out.scanLine(y);
+        for (int x = 0; x < image.width(); ++x) {
+            for (int c = 0; c < 3; ++c)
+                row[4 * x + c] = uchar(std::lround(std::clamp(tonemap(image.at(x, y, c), exposure), 0.0f, 1.0f) * 255.0f));
+            row[4 * x + 3] = 255;
+        }
+    }
+    return out;
+}
+
+double sharedDifferenceScale(const std::vector<ViewFrame>& frames) {
+    double sum = 0.0;
+    long count = 0;
+    for (const ViewFrame& f : frames) {
+        if (!f.reference) continue;
+        for (int y = 0; y < f.reference->height(); ++y)
+            for (int x = 0; x < f.reference->width(); ++x) {
+                sum += luminance(*f.reference, x, y);
+                ++count;
+            }
+    }
+    return count > 0 && sum > 0.0 ? 0.1 * sum / double(count) : 1e-3;
+}
+
+std::vector<QRect> viewRects(const std::vector<ViewFrame>& frames, const CompositorState& state, QSize size) {
+    return cells(frames, state, size);
+}
+
+QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& state, QSize size) {
+    QImage frame(size.expandedTo(QSize(1, 1)), QImage::Format_RGBA8888);
+    frame.fill(QColor(28, 28, 30));
+    QPainter p(&frame);
+    p.setRenderHint(QPainter::SmoothPixmapTransform, false);
+    if (frames.empty()) {
+        p.setPen(QColor(200, 200, 200));
+        p.drawText(frame.rect(), Qt::AlignCenter, "This project has no views");
+        return frame;
+    }
+    const std::vector<QRect> rects = cells(frames, state, size);
+    const double scale = sharedDifferenceScale(frames);
+    auto display = [&](const ViewFrame& f, bool reference) -> QImage {
+        const std::shared_ptr<const Image>& img = reference ? f.reference : f.image;
+        if (!img) return {};
+        const double exposure = f.exposure + state.exposureOffset;
+        if (state.diff != DiffMode::Off && !reference) {
+            if (!f.reference || f.reference->width() != img->width() || f.reference->height() != img->height())
+                return {};
+            return differenceDisplay(*img, *f.reference, state.diff, scale);
+        }
+        return toDisplay(*img, exposure);
+    };
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        const QRect r = rects[i];
+        if (r.isEmpty()) continue;
+        const ViewFrame& f = frames[i];
+        if (state.layout == Layout::Split) {
+            const QImage left = display(f, state.swapped), right = display(f, !state.swapped);
+            const int divider = r.x() + int(std::round(state.split * r.width()));
+            if (!left.isNull()) {
+                const QImage scaled = left.scaled(r.size());
+                p.drawImage(QRect(r.x(), r.y(), divider - r.x(), r.height()), scaled,
+                            QRect(0, 0, divider - r.x(), r.height()));
+            }
+            if (!right.isNull()) {
+                const QImage scaled = right.scaled(r.size());
+                p.drawImage(QRect(divider, r.y(), r.right() + 1 - divider, r.height()), scaled,
+                            QRect(divider - r.x(), 0, r.right() + 1 - divider, r.height()));
+            }
+            p.setPen(QPen(QColor(255, 255, 255), 1));
+            p.drawLine(divider, r.y(), divider, r.bottom());
+            const QString sides = state.swapped ? "reference | " + f.technique : f.technique + " | reference";
+            drawLabel(p, r, f.name + "  -  " + sides, metricsLine(f));
+            continue;
+        }
+        const bool reference = state.layout == Layout::Single && state.showReference;
+        const QImage img = display(f, reference);
+        if (img.isNull()) {
+            p.setPen(QColor(120, 120, 120));
+            p.drawRect(r.adjusted(0, 0, -1, -1));
+            p.drawText(r, Qt::AlignCenter, f.error.isEmpty() ? "rendering..." : "failed");
+        } else {
+            p.drawImage(r, img);
+        }
+        drawLabel(p, r, labelOf(f, reference), reference ? QString() : metricsLine(f));
+    }
+    if (state.diff != DiffMode::Off) drawColourBar(p, size, state.diff, scale);
+    return frame;
+}
+
+}  // namespace tyndall::studio

@@ -1,0 +1,58 @@
+// What the viewport shows, composed on the CPU into one 8-bit sRGB frame at the viewport's size: the views side by
+// side (grid), one view (single), or one view wiped against its reference (split); optionally each view's difference
+// from its reference on one fixed scale shared by every view, with a colour bar; labels with technique, frame time,
+// spp and error metrics. Pure functions of their inputs, so that tests can check what a frame shows.
+#pragma once
+
+#include "tyndall/image.h"
+#include "tyndall/metrics.h"
+
+#include <QImage>
+#include <QRect>
+#include <QString>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace tyndall::studio {
+
+enum class Layout { Grid, Single, Split };
+enum class DiffMode { Off, Signed, Absolute, Relative };
+
+struct ViewFrame {
+    QString name;
+    QString technique;                        // display name
+    std::shared_ptr<const Image> image;       // the technique's latest image (null: not rendered yet)
+    std::shared_ptr<const Image> reference;   // the reference of the view's part (null: not rendered yet)
+    int spp = 0, referenceSpp = 0;
+    double seconds = 0.0;                     // the technique's frame time
+    double exposure = 0.0;                    // the view's, EV
+    bool rendering = false;                   // a newer render is on its way
+    std::optional<Metrics> metrics;           // against the reference, when both exist at the same size
+    QString error;                            // the last render's failure
+};
+
+struct CompositorState {
+    Layout layout = Layout::Grid;
+    int current = 0;             // the view of the single and split layouts
+    bool showReference = false;  // single: the reference instead of the view (Shift held)
+    double split = 0.5;          // split: the divider's position across the image, [0, 1]
+    bool swapped = false;        // split: the reference on the left
+    DiffMode diff = DiffMode::Off;
+    double exposureOffset = 0.0; // EV added to every view's exposure (E / Shift+E)
+};
+
+// Linear RGB to 8-bit sRGB after 2^exposure, like the PNGs the CLI writes.
+QImage toDisplay(const Image& image, double exposure);
+
+// The difference scale shared by every view: 10 % of the mean luminance of the references (1e-3 without any).
+double sharedDifferenceScale(const std::vector<ViewFrame>& frames);
+
+// The rectangles the views occupy in a frame of `size` under `state`, in view order (an empty rectangle for a view
+// that is not shown), so that the viewport can map the cursor to a view and a pixel.
+std::vector<QRect> viewRects(const std::vector<ViewFrame>& frames, const CompositorState& state, QSize size);
+
+QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& state, QSize size);
+
+}  // namespace tyndall::studio

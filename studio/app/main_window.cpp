@@ -1,0 +1,445 @@
+#include "main_window.h"
+
+#include "tyndall/image_io.h"
+#include "tyndall/render.h"
+
+#include <QAction>
+#include <QActionGroup>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QDir>
+#include <QDockWidget>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QKeyEvent>
+#include <QLabel>
+#include <QListWidget>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QSaveFile>
+#include <QStatusBar>
+#include <QToolBar>
+#include <QVulkanInstance>
+
+#include <nlohmann/json.hpp>
+
+namespace tyndall::studio {
+
+namespace {
+
+// Debounce of re-renders after an edit: a slider drag renders once it pauses.
+constexpr int kDebounceMs = 120;
+
+QString displayNameOf(const std::string& technique) {
+    try {
+        return QString::fromStdString(createTechnique(technique)->displayName());
+    } catch (const std::exception&) {
+        return QString::fromStdString(technique);
+    }
+}
+
+}  // namespace
+
+MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrides)
+    : overrides_(std::move(overrides)) {
+    renderer_ = new RenderService(this);
+    viewport_ = new Viewport;
+    viewport_->setVulkanInstance(vulkan);
+    QWidget* container = QWidget::createWindowContainer(viewport_, this);
+    container->setMinimumSize(320, 240);
+    container->setFocusPolicy(Qt::StrongFocus);
+    setCentralWidget(container);
+
+    auto* viewsDock = new QDockWidget("Views", this);
+    viewsDock->setObjectName("viewsDock");
+    viewList_ = new QListWidget;
+    viewList_->setObjectName("viewList");
+    viewsDock->setWidget(viewList_);
+    addDockWidget(Qt::LeftDockWidgetArea, viewsDock);
+
+    auto* paramsDock = new QDockWidget("Parameters", this);
+    paramsDock->setObjectName("parametersDock");
+    parameters_ = new ParameterPanel(session_);
+    paramsDock->setWidget(parameters_);
+    addDockWidget(Qt::RightDockWidgetArea, paramsDock);
+
+    auto* metricsDock = new QDockWidget("Metrics", this);
+    metricsDock->setObjectName("metricsDock");
+    metrics_ = new QLabel;
+    metrics_->setObjectName("metrics");
+    metrics_->setTextFormat(Qt::RichText);
+    metrics_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+    metricsDock->setWidget(metrics_);
+    addDockWidget(Qt::RightDockWidgetArea, metricsDock);
+
+    buildMenus();
+
+    connect(viewList_, &QListWidget::currentRowChanged, this, [this](int row) {
+        if (row < 0) return;
+        state_.current = row;
+        parameters_->showView(row);
+        recompose();
+    });
+    connect(&session_, &Session::projectReplaced, this, [this] {
+        rebuildViews();
+        renderAll();
+        updateTitle();
+    });
+    connect(&session_, &Session::viewChanged, this, [this](int view) {
+        frames_[std::size_t(view)].exposure = session_.project().views[std::size_t(view)].exposure;
+        dirtyViews_.insert(view);
+        debounce_.start();
+        recompose();
+    });
+    connect(&session_, &Session::modifiedChanged, this, [this](bool) { updateTitle(); });
+    connect(renderer_, &RenderService::output, this, &MainWindow::onOutput);
+
+    debounce_.setSingleShot(true);
+    debounce_.setInterval(kDebounceMs);
+    connect(&debounce_, &QTimer::timeout, this, [this] {
+        for (int view : dirtyViews_)
+            renderView(view, false);
+        dirtyViews_.clear();
+    });
+
+    connect(viewport_, &Viewport::resized, this, [this](QSize) { recompose(); });
+    connect(viewport_, &Viewport::keyPressed, this,
+            [this](int key, Qt::KeyboardModifiers m) { onKey(key, m, true); });
+    connect(viewport_, &Viewport::keyReleased, this,
+            [this](int key, Qt::KeyboardModifiers m) { onKey(key, m, false); });
+    auto dragDivider = [this](QPointF position, Qt::MouseButtons buttons) {
+        if (state_.layout != Layout::Split || !(buttons & Qt::LeftButton) || frames_.empty()) return;
+        const std::vector<QRect> rects = viewRects(frames_, state_, viewport_->pixelSize());
+        const QRect r = rects[std::size_t(std::clamp(state_.current, 0, int(rects.size()) - 1))];
+        if (r.width() <= 0) return;
+        state_.split = std::clamp((position.x() - r.x()) / r.width(), 0.0, 1.0);
+        recompose();
+    };
+    connect(viewport_, &Viewport::mousePressed, this, dragDivider);
+    connect(viewport_, &Viewport::mouseMoved, this, dragDivider);
+    connect(viewport_, &Viewport::mouseDoubleClicked, this, [this](QPointF) {
+        state_.split = 0.5;
+        recompose();
+    });
+    resize(1280, 800);
+    updateTitle();
+}
+
+MainWindow::~MainWindow() {
+    renderer_->cancelAll();
+}
+
+void MainWindow::buildMenus() {
+    QMenu* file = menuBar()->addMenu("&File");
+    QAction* open = file->addAction("&Open...", this, [this] {
+        if (!confirmDiscard()) return;
+        const QString path = QFileDialog::getOpenFileName(this, "Open project", QFileInfo(session_.path()).path(),
+                                                          "Tyndall projects (*.json)");
+        if (!path.isEmpty()) openProject(path);
+    });
+    open->setShortcut(QKeySequence::Open);
+    QAction* save = file->addAction("&Save", this, [this] {
+        QString error;
+        if (!session_.save(&error)) QMessageBox::critical(this, "Cannot save", error);
+    });
+    save->setShortcut(QKeySequence::Save);
+    QAction* saveAs = file->addAction("Save &as...", this, [this] {
+        const QString path = QFileDialog::getSaveFileName(this, "Save project as", session_.path(),
+                                                          "Tyndall projects (*.json)");
+        QString error;
+        if (!path.isEmpty() && !session_.saveAs(path, &error)) QMessageBox::critical(this, "Cannot save", error);
+        updateTitle();
+    });
+    saveAs->setShortcut(QKeySequence::SaveAs);
+    file->addSeparator();
+    file->addAction("&Export comparison...", this, [this] {
+        const QString folder = QFileDialog::getExistingDirectory(this, "Export the comparison into");
+        QString error;
+        if (!folder.isEmpty() && !exportComparison(folder, &error)) QMessageBox::critical(this, "Cannot export", error);
+    });
+    file->addSeparator();
+    QAction* quit = file->addAction("&Quit", this, &QWidget::close);
+    quit->setShortcut(QKeySequence::Quit);
+
+    QMenu* edit = menuBar()->addMenu("&Edit");
+    QAction* undo = session_.undoStack()->createUndoAction(this, "&Undo");
+    undo->setShortcut(QKeySequence::Undo);
+    QAction* redo = session_.undoStack()->createRedoAction(this, "&Redo");
+    redo->setShortcut(QKeySequence::Redo);
+    edit->addAction(undo);
+    edit->addAction(redo);
+
+    QMenu* view = menuBar()->addMenu("&View");
+    QToolBar* toolbar = addToolBar("Layout");
+    toolbar->setObjectName("layoutToolbar");
+    auto* layouts = new QActionGroup(this);
+    auto addLayout = [&](const QString& name, Layout layout, const QString& key) {
+        QAction* a = view->addAction(name, this, [this, layout] { setLayoutMode(layout); });
+        a->setCheckable(true);
+        a->setShortcut(QKeySequence(key));
+        a->setShortcutContext(Qt::ApplicationShortcut);
+        a->setChecked(layout == Layout::Grid);
+        layouts->addAction(a);
+        toolbar->addAction(a);
+    };
+    addLayout("&Grid", Layout::Grid, "G");
+    addLayout("&Single", Layout::Single, "S");
+    addLayout("Split (&wipe)", Layout::Split, "W");
+    view->addSeparator();
+    QAction* diff = view->addAction("Cycle &difference (off, signed, absolute, relative)", this, [this] {
+        state_.diff = DiffMode((int(state_.diff) + 1) % 4);
+        recompose();
+    });
+    diff->setShortcut(QKeySequence("D"));
+    diff->setShortcutContext(Qt::ApplicationShortcut);
+    toolbar->addAction(diff);
+    for (QAction* a : {undo, redo, save, open, saveAs}) a->setShortcutContext(Qt::ApplicationShortcut);
+}
+
+bool MainWindow::openProject(const QString& path, bool dialog) {
+    QString error;
+    renderer_->cancelAll();
+    if (!session_.open(path, &error, overrides_)) {
+        if (dialog) QMessageBox::critical(this, "Cannot open the project", error);
+        statusBar()->showMessage("Not opened: " + error, 10000);
+        // The current project stays; its renders start again where they were cancelled.
+        if (!session_.project().views.empty()) renderAll();
+        return false;
+    }
+    return true;
+}
+
+void MainWindow::rebuildViews() {
+    const Project& project = session_.project();
+    frames_.assign(project.views.size(), ViewFrame{});
+    generation_.assign(project.views.size(), 0);
+    referenceGeneration_.assign(project.views.size(), 0);
+    pending_.assign(project.views.size(), false);
+    viewList_->clear();
+    for (std::size_t i = 0; i < project.views.size(); ++i) {
+        const View& v = project.views[i];
+        frames_[i].name = QString::fromStdString(v.name);
+        frames_[i].technique = displayNameOf(v.technique);
+        frames_[i].exposure = v.exposure;
+        viewList_->addItem(QString("%1  %2  (%3)").arg(i + 1).arg(frames_[i].name, frames_[i].technique));
+    }
+    state_.current = 0;
+    if (!frames_.empty()) viewList_->setCurrentRow(0);
+    parameters_->showView(frames_.empty() ? -1 : 0);
+}
+
+void MainWindow::renderView(int view, bool reference) {
+    const Project& project = session_.project();
+    const std::string& name = project.views[std::size_t(view)].name;
+    RenderTask task;
+    task.view = view;
+    task.reference = reference;
+    task.generation = nextGeneration_++;
+    try {
+        task.job = std::make_shared<RenderJob>(reference ? makeReferenceJob(project, session_.path().toStdString(), name)
+                                                         : makeViewJob(project, session_.path().toStdString(), name));
+    } catch (const std::exception& e) {
+        frames_[std::size_t(view)].error = QString::fromStdString(e.what());
+        recompose();
+        return;
+    }
+    (reference ? referenceGeneration_ : generation_)[std::size_t(view)] = task.generation;
+    if (!reference) {
+        pending_[std::size_t(view)] = true;
+        frames_[std::size_t(view)].rendering = true;
+    }
+    renderer_->submit(std::move(task));
+}
+
+void MainWindow::renderAll() {
+    for (int i = 0; i < int(frames_.size()); ++i)
+        renderView(i, false);
+    for (int i = 0; i < int(frames_.size()); ++i)
+        renderView(i, true);
+    recompose();
+}
+
+bool MainWindow::settled() const {
+    for (bool p : pending_)
+        if (p) return false;
+    return renderer_->idle() && dirtyViews_.empty() && !debounce_.isActive();
+}
+
+void MainWindow::onOutput(const RenderOutput& out) {
+    if (out.view < 0 || out.view >= int(frames_.size())) return;
+    const std::vector<quint64>& generations = out.reference ? referenceGeneration_ : generation_;
+    if (out.generation != generations[std::size_t(out.view)]) return;  // stale: a newer render is on its way
+    ViewFrame& f = frames_[std::size_t(out.view)];
+    if (!out.error.isEmpty()) {
+        f.error = out.error;
+        statusBar()->showMessage(f.name + ": " + out.error, 10000);
+    } else if (out.reference) {
+        f.reference = out.image;
+        f.referenceSpp = out.spp;
+    } else {
+        f.image = out.image;
+        f.spp = out.spp;
+        f.seconds = out.seconds;
+        f.error.clear();
+    }
+    if (!out.reference && out.final) {
+        pending_[std::size_t(out.view)] = false;
+        f.rendering = false;
+    }
+    f.metrics.reset();
+    if (f.image && f.reference && f.image->width() == f.reference->width() &&
+        f.image->height() == f.reference->height()) {
+        try {
+            f.metrics = computeMetrics(*f.image, *f.reference, f.exposure);
+        } catch (const std::exception&) {
+        }
+    }
+    updateMetricsDock();
+    recompose();
+}
+
+void MainWindow::updateMetricsDock() {
+    QString html = "<table cellspacing=4><tr><th align=left>view</th><th>relMSE</th><th>PSNR</th><th>ref. noise</th>"
+                   "<th>bias %</th></tr>";
+    for (const ViewFrame& f : frames_) {
+        html += "<tr><td>" + f.name.toHtmlEscaped() + "</td>";
+        if (f.metrics)
+            html += QString("<td>%1</td><td>%2</td><td>%3</td><td>%4</td>")
+                        .arg(f.metrics->relMSE, 0, 'g', 3)
+                        .arg(f.metrics->psnr, 0, 'g', 4)
+                        .arg(f.metrics->referenceNoiseRelMSE ? QString::number(*f.metrics->referenceNoiseRelMSE, 'g', 3)
+                                                             : QString("-"))
+                        .arg(f.metrics->energyBias, 0, 'g', 3);
+        else
+            html += "<td colspan=4>waiting for both images</td>";
+        html += "</tr>";
+    }
+    metrics_->setText(html + "</table>");
+}
+
+void MainWindow::recompose() {
+    const QSize size = viewport_->pixelSize().expandedTo(QSize(64, 48));
+    composed_ = compose(frames_, state_, size);
+    viewport_->setFrame(composed_);
+}
+
+void MainWindow::setLayoutMode(Layout layout) {
+    state_.layout = layout;
+    recompose();
+}
+
+void MainWindow::selectView(int view) {
+    if (view < 0 || view >= int(frames_.size())) return;
+    viewList_->setCurrentRow(view);
+}
+
+void MainWindow::onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed) {
+    if (key == Qt::Key_Shift) {
+        state_.showReference = pressed;
+        recompose();
+        return;
+    }
+    if (!pressed) return;
+    if (key >= Qt::Key_1 && key <= Qt::Key_9) {
+        selectView(key - Qt::Key_1);
+        if (state_.layout == Layout::Grid) state_.layout = Layout::Single;
+        recompose();
+    } else if (key == Qt::Key_T) {
+        state_.swapped = !state_.swapped;
+        recompose();
+    } else if (key == Qt::Key_E) {
+        state_.exposureOffset += (modifiers & Qt::ShiftModifier) ? -0.5 : 0.5;
+        recompose();
+    } else if (key == Qt::Key_G) {
+        setLayoutMode(Layout::Grid);
+    } else if (key == Qt::Key_S) {
+        setLayoutMode(Layout::Single);
+    } else if (key == Qt::Key_W) {
+        setLayoutMode(Layout::Split);
+    } else if (key == Qt::Key_D) {
+        state_.diff = DiffMode((int(state_.diff) + 1) % 4);
+        recompose();
+    }
+}
+
+void MainWindow::keyPressEvent(QKeyEvent* event) {
+    onKey(event->key(), event->modifiers(), true);
+}
+
+void MainWindow::keyReleaseEvent(QKeyEvent* event) {
+    onKey(event->key(), event->modifiers(), false);
+}
+
+void MainWindow::updateTitle() {
+    const QString name = QString::fromStdString(session_.project().name);
+    setWindowTitle((name.isEmpty() ? QString("Tyndall") : name) + " - " +
+                   QFileInfo(session_.path()).fileName() + "[*] - Tyndall Studio");
+    setWindowModified(session_.modified());
+}
+
+bool MainWindow::confirmDiscard() {
+    if (!session_.modified()) return true;
+    const auto answer = QMessageBox::question(this, "Unsaved changes",
+                                              "The project has unsaved changes. Save them first?",
+                                              QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel);
+    if (answer == QMessageBox::Cancel) return false;
+    if (answer == QMessageBox::Save) {
+        QString error;
+        if (!session_.save(&error)) {
+            QMessageBox::critical(this, "Cannot save", error);
+            return false;
+        }
+    }
+    return true;
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+    if (!confirmDiscard()) {
+        event->ignore();
+        return;
+    }
+    renderer_->cancelAll();
+    event->accept();
+}
+
+bool MainWindow::exportComparison(const QString& folder, QString* error) {
+    try {
+        QDir dir(folder);
+        if (!dir.exists() && !QDir().mkpath(folder)) throw std::runtime_error("cannot create " + folder.toStdString());
+        nlohmann::json metrics = nlohmann::json::array();
+        std::string csv = metricsCsvHeader() + "\n";
+        const double scale = sharedDifferenceScale(frames_);
+        for (const ViewFrame& f : frames_) {
+            const std::string stem = dir.filePath(f.name).toStdString();
+            if (f.image) {
+                writeImage(*f.image, stem + ".exr", f.exposure);
+                writeImage(*f.image, stem + ".png", f.exposure);
+            }
+            if (f.reference) {
+                writeImage(*f.reference, stem + "-reference.exr", f.exposure);
+                writeImage(*f.reference, stem + "-reference.png", f.exposure);
+            }
+            if (f.image && f.reference && f.metrics) {
+                writeImage(differenceImage(*f.image, *f.reference, DifferenceKind::Signed, scale), stem + "-diff.png");
+                nlohmann::json m = metricsToJson(*f.metrics);
+                m["view"] = f.name.toStdString();
+                metrics.push_back(m);
+                csv += metricsCsvRow(f.name.toStdString(), *f.metrics) + "\n";
+            }
+        }
+        auto writeText = [&](const QString& name, const std::string& text) {
+            QSaveFile file(dir.filePath(name));
+            if (!file.open(QIODevice::WriteOnly) || file.write(text.data(), qint64(text.size())) < 0 || !file.commit())
+                throw std::runtime_error("cannot write " + dir.filePath(name).toStdString());
+        };
+        writeText("metrics.json", metrics.dump(2) + "\n");
+        writeText("metrics.csv", csv);
+        if (!composed_.save(dir.filePath("viewport.png"))) throw std::runtime_error("cannot write viewport.png");
+        return true;
+    } catch (const std::exception& e) {
+        if (error) *error = QString::fromStdString(e.what());
+        return false;
+    }
+}
+
+}  // namespace tyndall::studio

@@ -1,0 +1,131 @@
+#include "render_service.h"
+
+#include "tyndall/error.h"
+
+#include <QMetaObject>
+
+#include <chrono>
+
+namespace tyndall::studio {
+
+RenderService::RenderService(QObject* parent) : QObject(parent) {
+    thread_ = std::thread([this] { run(); });
+}
+
+RenderService::~RenderService() {
+    {
+        std::lock_guard lock(mutex_);
+        quit_ = true;
+        queue_.clear();
+        cancel_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+}
+
+void RenderService::submit(RenderTask task) {
+    {
+        std::lock_guard lock(mutex_);
+        for (auto it = queue_.begin(); it != queue_.end();)
+            it = (it->view == task.view && it->reference == task.reference) ? queue_.erase(it) : it + 1;
+        if (running_ && runningView_ == task.view && runningReference_ == task.reference) cancel_ = true;
+        // An edit comes first: a running reference steps aside and starts again afterwards.
+        if (running_ && runningReference_ && !task.reference && !cancel_) {
+            cancel_ = true;
+            requeueRunning_ = true;
+        }
+        if (task.reference)
+            queue_.push_back(std::move(task));
+        else
+            queue_.push_front(std::move(task));
+    }
+    wake_.notify_all();
+    emit idleChanged(false);
+}
+
+void RenderService::cancelAll() {
+    {
+        std::lock_guard lock(mutex_);
+        queue_.clear();
+        if (running_) cancel_ = true;
+        requeueRunning_ = false;
+    }
+}
+
+bool RenderService::idle() const {
+    std::lock_guard lock(mutex_);
+    return !running_ && queue_.empty();
+}
+
+void RenderService::post(RenderOutput out) {
+    QMetaObject::invokeMethod(this, [this, out = std::move(out)] { emit output(out); }, Qt::QueuedConnection);
+}
+
+void RenderService::run() {
+    using Clock = std::chrono::steady_clock;
+    for (;;) {
+        std::shared_ptr<RenderTask> task;
+        {
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [&] { return quit_ || !queue_.empty(); });
+            if (quit_) return;
+            // Technique views first (they sit at the front), then references.
+            task = std::make_shared<RenderTask>(std::move(queue_.front()));
+            queue_.pop_front();
+            running_ = true;
+            runningView_ = task->view;
+            runningReference_ = task->reference;
+            runningTask_ = task;
+            cancel_ = false;
+            requeueRunning_ = false;
+        }
+        RenderOutput out;
+        out.view = task->view;
+        out.reference = task->reference;
+        out.generation = task->generation;
+        auto lastPost = Clock::now();
+        RenderCallbacks callbacks;
+        callbacks.cancel = &cancel_;
+        callbacks.intermediate = [&](const Image& image, int spp) {
+            // Progressive images at most every 200 ms: the GUI composes each one.
+            if (Clock::now() - lastPost < std::chrono::milliseconds(200)) return;
+            lastPost = Clock::now();
+            RenderOutput partial = out;
+            partial.image = std::make_shared<Image>(image);
+            partial.spp = spp;
+            post(std::move(partial));
+        };
+        bool cancelled = false;
+        try {
+            RenderResult result = runJob(*task->job, callbacks);
+            out.image = std::make_shared<Image>(std::move(result.image));
+            out.spp = result.spp;
+            out.seconds = result.seconds;
+            out.final = true;
+        } catch (const Cancelled&) {
+            cancelled = true;
+        } catch (const std::exception& e) {
+            out.error = QString::fromStdString(e.what());
+            out.final = true;
+        }
+        bool nowIdle = false;
+        {
+            std::lock_guard lock(mutex_);
+            running_ = false;
+            runningTask_.reset();
+            if (cancelled && requeueRunning_ && !quit_) {
+                // The interrupted reference starts again once the edit's renders are done.
+                bool replaced = false;
+                for (const RenderTask& t : queue_)
+                    replaced |= t.view == task->view && t.reference == task->reference;
+                if (!replaced) queue_.push_back(*task);
+            }
+            nowIdle = queue_.empty();
+        }
+        if (!cancelled) post(std::move(out));
+        if (nowIdle)
+            QMetaObject::invokeMethod(this, [this] { emit idleChanged(idle()); }, Qt::QueuedConnection);
+    }
+}
+
+}  // namespace tyndall::studio

@@ -1,0 +1,71 @@
+// Renders views and references off the GUI thread. One worker runs one job at a time: technique views before
+// references, newest first. A new task for a view (or its reference) replaces the queued one and cancels the running
+// one, so stale results are dropped rather than shown; a technique task also interrupts a running reference, which
+// goes back to the queue, so that the two cores serve the edit first. Outputs (progressive images and the final one)
+// arrive on the GUI thread through `output`.
+#pragma once
+
+#include "tyndall/render.h"
+
+#include <QObject>
+#include <QString>
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+namespace tyndall::studio {
+
+struct RenderTask {
+    int view = 0;
+    bool reference = false;
+    quint64 generation = 0;  // increases with every edit; outputs of older generations are stale
+    std::shared_ptr<RenderJob> job;
+};
+
+struct RenderOutput {
+    int view = 0;
+    bool reference = false;
+    quint64 generation = 0;
+    std::shared_ptr<const Image> image;  // null when the render failed
+    int spp = 0;
+    double seconds = 0.0;
+    bool final = false;
+    QString error;
+};
+
+class RenderService : public QObject {
+    Q_OBJECT
+public:
+    explicit RenderService(QObject* parent = nullptr);
+    ~RenderService() override;
+
+    void submit(RenderTask task);
+    void cancelAll();
+    bool idle() const;
+
+signals:
+    void output(const tyndall::studio::RenderOutput& out);
+    void idleChanged(bool idle);
+
+private:
+    void run();
+    void post(RenderOutput out);
+
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<RenderTask> queue_;
+    bool running_ = false;
+    int runningView_ = -1;
+    bool runningReference_ = false;
+    std::shared_ptr<RenderTask> runningTask_;
+    std::atomic<bool> cancel_{false};
+    bool requeueRunning_ = false;
+    bool quit_ = false;
+    std::thread thread_;
+};
+
+}  // namespace tyndall::studio

@@ -1,0 +1,115 @@
+#include "session.h"
+
+#include "tyndall/error.h"
+
+#include <QUndoCommand>
+
+namespace tyndall::studio {
+
+namespace {
+
+class SetParameterCommand final : public QUndoCommand {
+public:
+    SetParameterCommand(Session& session, int view, std::string name, nlohmann::json before, nlohmann::json after)
+        : session_(session), view_(view), name_(std::move(name)), before_(std::move(before)), after_(std::move(after)) {
+        setText(QString::fromStdString("set " + session.project().views[std::size_t(view)].name + "." + name_));
+    }
+    void undo() override { session_.applyParameter(view_, name_, before_); }
+    void redo() override { session_.applyParameter(view_, name_, after_); }
+    int id() const override { return 1; }
+    // Dragging a slider is one edit: consecutive changes of the same parameter merge.
+    bool mergeWith(const QUndoCommand* other) override {
+        const auto* o = dynamic_cast<const SetParameterCommand*>(other);
+        if (!o || o->view_ != view_ || o->name_ != name_) return false;
+        after_ = o->after_;
+        return true;
+    }
+
+private:
+    Session& session_;
+    int view_;
+    std::string name_;
+    nlohmann::json before_, after_;
+};
+
+class SetExposureCommand final : public QUndoCommand {
+public:
+    SetExposureCommand(Session& session, int view, double before, double after)
+        : session_(session), view_(view), before_(before), after_(after) {
+        setText("exposure");
+    }
+    void undo() override { session_.applyExposure(view_, before_); }
+    void redo() override { session_.applyExposure(view_, after_); }
+
+private:
+    Session& session_;
+    int view_;
+    double before_, after_;
+};
+
+}  // namespace
+
+Session::Session(QObject* parent) : QObject(parent) {
+    connect(&undo_, &QUndoStack::cleanChanged, this, [this](bool clean) { emit modifiedChanged(!clean); });
+}
+
+bool Session::open(const QString& path, QString* error, const std::vector<std::string>& overrides) {
+    try {
+        Project loaded = loadProject(path.toStdString(), overrides);
+        project_ = std::move(loaded);
+        path_ = path;
+        undo_.clear();
+        undo_.setClean();
+        emit projectReplaced();
+        emit modifiedChanged(false);
+        return true;
+    } catch (const std::exception& e) {
+        if (error) *error = QString::fromStdString(e.what());
+        return false;
+    }
+}
+
+bool Session::save(QString* error) {
+    return saveAs(path_, error);
+}
+
+bool Session::saveAs(const QString& path, QString* error) {
+    try {
+        saveProject(project_, path.toStdString());
+        path_ = path;
+        undo_.setClean();
+        return true;
+    } catch (const std::exception& e) {
+        if (error) *error = QString::fromStdString(e.what());
+        return false;
+    }
+}
+
+void Session::setParameter(int view, const std::string& name, const nlohmann::json& value) {
+    const nlohmann::json& parameters = project_.views[std::size_t(view)].parameters;
+    const nlohmann::json before = parameters.contains(name) ? parameters[name] : nlohmann::json();
+    if (before == value) return;
+    undo_.push(new SetParameterCommand(*this, view, name, before, value));
+}
+
+void Session::setExposure(int view, double exposure) {
+    const double before = project_.views[std::size_t(view)].exposure;
+    if (before == exposure) return;
+    undo_.push(new SetExposureCommand(*this, view, before, exposure));
+}
+
+void Session::applyParameter(int view, const std::string& name, const nlohmann::json& value) {
+    nlohmann::json& parameters = project_.views[std::size_t(view)].parameters;
+    if (value.is_null())
+        parameters.erase(name);
+    else
+        parameters[name] = value;
+    emit viewChanged(view);
+}
+
+void Session::applyExposure(int view, double exposure) {
+    project_.views[std::size_t(view)].exposure = exposure;
+    emit viewChanged(view);
+}
+
+}  // namespace tyndall::studio

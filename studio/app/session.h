@@ -1,0 +1,47 @@
+// The studio's document: the project being edited, where it lives, and the undo stack every edit goes through.
+// Loading never replaces the current project unless the new one is valid; saving is atomic (saveProject).
+#pragma once
+
+#include "tyndall/project.h"
+
+#include <QObject>
+#include <QString>
+#include <QUndoStack>
+
+namespace tyndall::studio {
+
+class Session : public QObject {
+    Q_OBJECT
+public:
+    explicit Session(QObject* parent = nullptr);
+
+    // Loads `path` with `overrides` (as the CLI's --set). On failure returns false with the error (file, field, what is
+    // allowed) and keeps the current project.
+    bool open(const QString& path, QString* error, const std::vector<std::string>& overrides = {});
+    bool save(QString* error);
+    bool saveAs(const QString& path, QString* error);
+
+    const Project& project() const { return project_; }
+    const QString& path() const { return path_; }
+    bool modified() const { return !undo_.isClean(); }
+    QUndoStack* undoStack() { return &undo_; }
+
+    // An undoable edit of view `view`'s parameter: `value` null restores the technique's default.
+    void setParameter(int view, const std::string& name, const nlohmann::json& value);
+    void setExposure(int view, double exposure);
+    // What the commands call; not undoable by themselves.
+    void applyParameter(int view, const std::string& name, const nlohmann::json& value);
+    void applyExposure(int view, double exposure);
+
+signals:
+    void projectReplaced();        // a new project was opened
+    void viewChanged(int view);    // a view's parameters or exposure changed
+    void modifiedChanged(bool modified);
+
+private:
+    Project project_;
+    QString path_;
+    QUndoStack undo_;
+};
+
+}  // namespace tyndall::studio

@@ -1,0 +1,307 @@
+#include "viewport.h"
+
+#include "tyndall/gpu/shader_compiler.h"
+
+#include <QKeyEvent>
+#include <QMouseEvent>
+#include <QVulkanDeviceFunctions>
+#include <QVulkanFunctions>
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace tyndall::studio {
+
+namespace {
+
+struct Push {
+    std::uint32_t width, height, srgbTarget;
+};
+
+std::vector<std::uint32_t> compileStage(const std::string& name, gpu::ShaderStage stage) {
+    const std::string path = std::string(TYNDALL_SHADER_DIR) + "/studio/" + name;
+    std::ifstream file(path);
+    if (!file) throw std::runtime_error("cannot read the shader " + path);
+    std::stringstream text;
+    text << file.rdbuf();
+    gpu::CompileResult compiled = gpu::compileGlslSource(text.str(), path, stage);
+    if (!compiled.ok) throw std::runtime_error(compiled.log);
+    return compiled.spirv;
+}
+
+bool isSrgb(VkFormat format) {
+    return format == VK_FORMAT_B8G8R8A8_SRGB || format == VK_FORMAT_R8G8B8A8_SRGB || format == VK_FORMAT_A8B8G8R8_SRGB_PACK32;
+}
+
+// Draws the viewport's frame: a storage buffer per frame in flight, read by a full-screen triangle.
+class ViewportRenderer final : public QVulkanWindowRenderer {
+public:
+    explicit ViewportRenderer(Viewport* window) : window_(window) {}
+
+    void initResources() override {
+        device_ = window_->device();
+        df_ = window_->vulkanInstance()->deviceFunctions(device_);
+        try {
+            createPipeline();
+        } catch (const std::exception& e) {
+            window_->setFailure(QString::fromStdString(e.what()));
+        }
+    }
+
+    void initSwapChainResources() override {
+        const QSize size = window_->swapChainImageSize();
+        bytes_ = VkDeviceSize(std::max(1, size.width() * size.height())) * 4;
+        const int frames = window_->concurrentFrameCount();
+        buffers_.assign(std::size_t(frames), VK_NULL_HANDLE);
+        memories_.assign(std::size_t(frames), VK_NULL_HANDLE);
+        mapped_.assign(std::size_t(frames), nullptr);
+        for (int i = 0; i < frames && pipeline_; ++i) {
+            VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+            info.size = bytes_;
+            info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+            check(df_->vkCreateBuffer(device_, &info, nullptr, &buffers_[std::size_t(i)]), "vkCreateBuffer");
+            VkMemoryRequirements req;
+            df_->vkGetBufferMemoryRequirements(device_, buffers_[std::size_t(i)], &req);
+            VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+            alloc.allocationSize = req.size;
+            alloc.memoryTypeIndex = window_->hostVisibleMemoryIndex();
+            check(df_->vkAllocateMemory(device_, &alloc, nullptr, &memories_[std::size_t(i)]), "vkAllocateMemory");
+            df_->vkBindBufferMemory(device_, buffers_[std::size_t(i)], memories_[std::size_t(i)], 0);
+            df_->vkMapMemory(device_, memories_[std::size_t(i)], 0, bytes_, 0, &mapped_[std::size_t(i)]);
+            VkDescriptorBufferInfo bufferInfo{buffers_[std::size_t(i)], 0, bytes_};
+            VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            write.dstSet = sets_[std::size_t(i)];
+            write.descriptorCount = 1;
+            write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            write.pBufferInfo = &bufferInfo;
+            df_->vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
+        }
+    }
+
+    void releaseSwapChainResources() override {
+        for (std::size_t i = 0; i < buffers_.size(); ++i) {
+            if (memories_[i]) {
+                df_->vkUnmapMemory(device_, memories_[i]);
+                df_->vkFreeMemory(device_, memories_[i], nullptr);
+            }
+            if (buffers_[i]) df_->vkDestroyBuffer(device_, buffers_[i], nullptr);
+        }
+        buffers_.clear();
+        memories_.clear();
+        mapped_.clear();
+    }
+
+    void releaseResources() override {
+        if (pipeline_) df_->vkDestroyPipeline(device_, pipeline_, nullptr);
+        if (layout_) df_->vkDestroyPipelineLayout(device_, layout_, nullptr);
+        if (pool_) df_->vkDestroyDescriptorPool(device_, pool_, nullptr);
+        if (setLayout_) df_->vkDestroyDescriptorSetLayout(device_, setLayout_, nullptr);
+        pipeline_ = VK_NULL_HANDLE;
+        layout_ = VK_NULL_HANDLE;
+        pool_ = VK_NULL_HANDLE;
+        setLayout_ = VK_NULL_HANDLE;
+    }
+
+    void startNextFrame() override {
+        const QSize size = window_->swapChainImageSize();
+        const int f = window_->currentFrame();
+        if (pipeline_ && std::size_t(f) < mapped_.size()) upload(static_cast<std::uint8_t*>(mapped_[std::size_t(f)]), size);
+
+        VkClearValue clear[3]{};
+        clear[0].color = {{0.11f, 0.11f, 0.12f, 1.0f}};
+        clear[1].depthStencil = {1.0f, 0};
+        clear[2].color = clear[0].color;
+        VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+        begin.renderPass = window_->defaultRenderPass();
+        begin.framebuffer = window_->currentFramebuffer();
+        begin.renderArea.extent = {std::uint32_t(size.width()), std::uint32_t(size.height())};
+        begin.clearValueCount = window_->sampleCountFlagBits() > VK_SAMPLE_COUNT_1_BIT ? 3 : 2;
+        begin.pClearValues = clear;
+        VkCommandBuffer cmd = window_->currentCommandBuffer();
+        df_->vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+        if (pipeline_ && std::size_t(f) < sets_.size()) {
+            df_->vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
+            VkViewport viewport{0.0f, 0.0f, float(size.width()), float(size.height()), 0.0f, 1.0f};
+            VkRect2D scissor{{0, 0}, {std::uint32_t(size.width()), std::uint32_t(size.height())}};
+            df_->vkCmdSetViewport(cmd, 0, 1, &viewport);
+            df_->vkCmdSetScissor(cmd, 0, 1, &scissor);
+            df_->vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_[std::size_t(f)], 0,
+                                         nullptr);
+            const Push push{std::uint32_t(size.width()), std::uint32_t(size.height()),
+                            isSrgb(window_->colorFormat()) ? 1u : 0u};
+            df_->vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(Push), &push);
+            df_->vkCmdDraw(cmd, 3, 1, 0, 0);
+        }
+        df_->vkCmdEndRenderPass(cmd);
+        window_->countPresented();
+        window_->frameReady();
+    }
+
+private:
+    void check(VkResult r, const char* what) {
+        if (r != VK_SUCCESS) throw std::runtime_error(std::string(what) + " failed: " + std::to_string(int(r)));
+    }
+
+    // The frame into the mapped buffer, row by row; what it does not cover is black.
+    void upload(std::uint8_t* out, QSize size) {
+        QImage frame = window_->frame();
+        if (frame.format() != QImage::Format_RGBA8888) frame = frame.convertToFormat(QImage::Format_RGBA8888);
+        std::memset(out, 0, std::size_t(bytes_));
+        const int w = std::min(frame.width(), size.width()), h = std::min(frame.height(), size.height());
+        for (int y = 0; y < h; ++y)
+            std::memcpy(out + std::size_t(y) * size.width() * 4, frame.constScanLine(y), std::size_t(w) * 4);
+    }
+
+    VkShaderModule module(const std::vector<std::uint32_t>& spirv) {
+        VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        info.codeSize = spirv.size() * 4;
+        info.pCode = spirv.data();
+        VkShaderModule m;
+        check(df_->vkCreateShaderModule(device_, &info, nullptr, &m), "vkCreateShaderModule");
+        return m;
+    }
+
+    void createPipeline() {
+        const std::vector<std::uint32_t> vert = compileStage("display.vert.glsl", gpu::ShaderStage::Vertex);
+        const std::vector<std::uint32_t> frag = compileStage("display.frag.glsl", gpu::ShaderStage::Fragment);
+
+        VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
+                                             nullptr};
+        VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        setInfo.bindingCount = 1;
+        setInfo.pBindings = &binding;
+        check(df_->vkCreateDescriptorSetLayout(device_, &setInfo, nullptr, &setLayout_), "vkCreateDescriptorSetLayout");
+        const int frames = window_->concurrentFrameCount();
+        VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::uint32_t(frames)};
+        VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        poolInfo.maxSets = std::uint32_t(frames);
+        poolInfo.poolSizeCount = 1;
+        poolInfo.pPoolSizes = &poolSize;
+        check(df_->vkCreateDescriptorPool(device_, &poolInfo, nullptr, &pool_), "vkCreateDescriptorPool");
+        std::vector<VkDescriptorSetLayout> layouts(std::size_t(frames), setLayout_);
+        sets_.assign(std::size_t(frames), VK_NULL_HANDLE);
+        VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        allocInfo.descriptorPool = pool_;
+        allocInfo.descriptorSetCount = std::uint32_t(frames);
+        allocInfo.pSetLayouts = layouts.data();
+        check(df_->vkAllocateDescriptorSets(device_, &allocInfo, sets_.data()), "vkAllocateDescriptorSets");
+
+        VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(Push)};
+        VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        layoutInfo.setLayoutCount = 1;
+        layoutInfo.pSetLayouts = &setLayout_;
+        layoutInfo.pushConstantRangeCount = 1;
+        layoutInfo.pPushConstantRanges = &range;
+        check(df_->vkCreatePipelineLayout(device_, &layoutInfo, nullptr, &layout_), "vkCreatePipelineLayout");
+
+        VkShaderModule vs = module(vert), fs = module(frag);
+        VkPipelineShaderStageCreateInfo stages[2]{{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                                  {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+        stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+        stages[0].module = vs;
+        stages[0].pName = "main";
+        stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+        stages[1].module = fs;
+        stages[1].pName = "main";
+        VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+        VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+        assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+        VkPipelineViewportStateCreateInfo viewportState{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+        viewportState.viewportCount = 1;
+        viewportState.scissorCount = 1;
+        VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+        raster.polygonMode = VK_POLYGON_MODE_FILL;
+        raster.cullMode = VK_CULL_MODE_NONE;
+        raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+        raster.lineWidth = 1.0f;
+        VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+        multisample.rasterizationSamples = window_->sampleCountFlagBits();
+        VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+        VkPipelineColorBlendAttachmentState blendAttachment{};
+        blendAttachment.colorWriteMask = 0xF;
+        VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+        blend.attachmentCount = 1;
+        blend.pAttachments = &blendAttachment;
+        const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+        VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+        dynamic.dynamicStateCount = 2;
+        dynamic.pDynamicStates = dynamicStates;
+        VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+        info.stageCount = 2;
+        info.pStages = stages;
+        info.pVertexInputState = &vertexInput;
+        info.pInputAssemblyState = &assembly;
+        info.pViewportState = &viewportState;
+        info.pRasterizationState = &raster;
+        info.pMultisampleState = &multisample;
+        info.pDepthStencilState = &depth;
+        info.pColorBlendState = &blend;
+        info.pDynamicState = &dynamic;
+        info.layout = layout_;
+        info.renderPass = window_->defaultRenderPass();
+        const VkResult r = df_->vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+        df_->vkDestroyShaderModule(device_, vs, nullptr);
+        df_->vkDestroyShaderModule(device_, fs, nullptr);
+        check(r, "vkCreateGraphicsPipelines");
+    }
+
+    Viewport* window_;
+    VkDevice device_ = VK_NULL_HANDLE;
+    QVulkanDeviceFunctions* df_ = nullptr;
+    VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
+    VkDescriptorPool pool_ = VK_NULL_HANDLE;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+    std::vector<VkDescriptorSet> sets_;
+    std::vector<VkBuffer> buffers_;
+    std::vector<VkDeviceMemory> memories_;
+    std::vector<void*> mapped_;
+    VkDeviceSize bytes_ = 0;
+};
+
+}  // namespace
+
+Viewport::Viewport() = default;
+
+QVulkanWindowRenderer* Viewport::createRenderer() {
+    return new ViewportRenderer(this);
+}
+
+void Viewport::setFrame(const QImage& frame) {
+    frame_ = frame;
+    requestUpdate();
+}
+
+QSize Viewport::pixelSize() const {
+    return size() * devicePixelRatio();
+}
+
+void Viewport::resizeEvent(QResizeEvent* event) {
+    QVulkanWindow::resizeEvent(event);
+    emit resized(pixelSize());
+}
+
+void Viewport::keyPressEvent(QKeyEvent* event) {
+    emit keyPressed(event->key(), event->modifiers());
+}
+
+void Viewport::keyReleaseEvent(QKeyEvent* event) {
+    emit keyReleased(event->key(), event->modifiers());
+}
+
+void Viewport::mousePressEvent(QMouseEvent* event) {
+    emit mousePressed(event->position() * devicePixelRatio(), event->buttons());
+}
+
+void Viewport::mouseMoveEvent(QMouseEvent* event) {
+    emit mouseMoved(event->position() * devicePixelRatio(), event->buttons());
+}
+
+void Viewport::mouseDoubleClickEvent(QMouseEvent* event) {
+    emit mouseDoubleClicked(event->position() * devicePixelRatio());
+}
+
+}  // namespace tyndall::studio

@@ -1,0 +1,248 @@
+// The studio's GUI flows in a real window under Xvfb, checked on what the frames show: start on the default project,
+// switch layouts, change a parameter and see that view change and the others not, undo it, wipe, export a comparison
+// and check the files, and refuse a broken project with a dialog while keeping the current one.
+#include "main_window.h"
+
+#include <QApplication>
+#include <QCheckBox>
+#include <QDir>
+#include <QFile>
+#include <QMessageBox>
+#include <QTest>
+#include <QTimer>
+#include <QVulkanInstance>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+using namespace tyndall;
+using namespace tyndall::studio;
+
+namespace {
+
+const QString kDefaultProject = TYNDALL_SOURCE_DIR "/projects/default.json";
+
+// Small renders so that the suite stays short: the project's camera and its reference at a few spp.
+const std::vector<std::string> kSmall = {"camera.width=96", "camera.height=72", "reference.spp=8"};
+
+double sum(const Image& image) {
+    double s = 0.0;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+            for (int c = 0; c < 3; ++c)
+                s += image.at(x, y, c);
+    return s;
+}
+
+bool samePixels(const Image& a, const Image& b) {
+    if (a.width() != b.width() || a.height() != b.height()) return false;
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x)
+            for (int c = 0; c < 3; ++c)
+                if (a.at(x, y, c) != b.at(x, y, c)) return false;
+    return true;
+}
+
+// How many distinct colours a frame has: a frame of one colour shows nothing.
+int distinctColours(const QImage& image) {
+    QSet<QRgb> colours;
+    for (int y = 0; y < image.height(); y += 3)
+        for (int x = 0; x < image.width(); x += 3)
+            colours.insert(image.pixel(x, y));
+    return int(colours.size());
+}
+
+}  // namespace
+
+class StudioTest : public QObject {
+    Q_OBJECT
+public:
+    explicit StudioTest(QVulkanInstance* vulkan) : vulkan_(vulkan) {}
+
+private slots:
+    void initTestCase() {
+        window_ = std::make_unique<MainWindow>(vulkan_, kSmall);
+        window_->show();
+        QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
+        QVERIFY(window_->openProject(kDefaultProject, false));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 240000);
+    }
+
+    // Every view rendered with its reference; the viewport presented the composed frame, and a screenshot of it shows
+    // the same picture (Qt 6.4's grab of a BGRA swapchain swaps red and blue: either order is accepted).
+    void startsOnTheDefaultProject() {
+        const auto& frames = window_->frames();
+        QCOMPARE(int(frames.size()), 4);
+        for (const ViewFrame& f : frames) {
+            QVERIFY2(f.image, qPrintable(f.name + ": " + f.error));
+            QVERIFY2(f.reference, qPrintable(f.name));
+            QVERIFY(sum(*f.image) > 0.0);
+            QVERIFY(f.metrics.has_value());
+        }
+        QCOMPARE(frames[1].technique, QString("WVDS box"));
+        QVERIFY(window_->windowTitle().contains("Foggy room"));
+        QTRY_VERIFY(window_->viewport()->framesPresented() > 0);
+        window_->recompose();
+        QVERIFY(distinctColours(window_->composedFrame()) > 50);
+
+        QTRY_VERIFY(window_->viewport()->framesPresented() > 1);
+        const QImage shot = window_->viewport()->grab();
+        const QImage composed = window_->composedFrame();
+        QVERIFY(!shot.isNull());
+        QCOMPARE(shot.size(), composed.size());
+        int matches = 0, samples = 0;
+        for (int y = 5; y < shot.height(); y += 17)
+            for (int x = 5; x < shot.width(); x += 17) {
+                const QColor s = shot.pixelColor(x, y), c = composed.pixelColor(x, y);
+                const bool straight = std::abs(s.red() - c.red()) <= 2 && std::abs(s.blue() - c.blue()) <= 2;
+                const bool swapped = std::abs(s.red() - c.blue()) <= 2 && std::abs(s.blue() - c.red()) <= 2;
+                matches += (straight || swapped) && std::abs(s.green() - c.green()) <= 2;
+                ++samples;
+            }
+        QVERIFY2(matches >= samples * 95 / 100, qPrintable(QString("%1 of %2").arg(matches).arg(samples)));
+    }
+
+    // Grid shows every view; single shows one (keys 1-9 select it, from the viewport), holding Shift shows its
+    // reference.
+    void switchesLayouts() {
+        window_->setLayoutMode(Layout::Grid);
+        const QImage grid = window_->composedFrame();
+        QTest::keyClick(window_->viewport(), Qt::Key_2);
+        QCOMPARE(window_->compositorState().current, 1);
+        QCOMPARE(window_->compositorState().layout, Layout::Single);
+        const QImage single = window_->composedFrame();
+        QVERIFY(single != grid);
+        QTest::keyPress(window_->viewport(), Qt::Key_Shift);
+        QVERIFY(window_->compositorState().showReference);
+        const QImage reference = window_->composedFrame();
+        QTest::keyRelease(window_->viewport(), Qt::Key_Shift);
+        QVERIFY(!window_->compositorState().showReference);
+        QVERIFY(reference != single);
+        window_->setLayoutMode(Layout::Grid);
+    }
+
+    // Turning off the light shaft's shadows re-renders that view only; undo brings the same image back.
+    void aParameterChangesItsViewOnlyAndUndoes() {
+        window_->selectView(1);
+        const auto before = window_->frames();
+        auto* shadows = window_->findChild<QCheckBox*>("param:shadows");
+        QVERIFY(shadows);
+        QVERIFY(shadows->isChecked());
+        shadows->setChecked(false);
+        QVERIFY(window_->session().modified());
+        QVERIFY(window_->isWindowModified());
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        const auto after = window_->frames();
+        QVERIFY(after[1].image != before[1].image);
+        QVERIFY(sum(*after[1].image) > sum(*before[1].image));  // unshadowed: more light
+        for (int i : {0, 2, 3})
+            QVERIFY(after[std::size_t(i)].image == before[std::size_t(i)].image);
+        QVERIFY(window_->session().project().views[1].parameters["shadows"] == nlohmann::json(false));
+
+        window_->session().undoStack()->undo();
+        QVERIFY(!window_->session().modified());
+        auto* restored = window_->findChild<QCheckBox*>("param:shadows");
+        QVERIFY(restored && restored->isChecked());
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        QVERIFY(samePixels(*window_->frames()[1].image, *before[1].image));
+    }
+
+    // The wipe shows the view left of the divider and its reference right of it; T swaps them; the difference mode
+    // draws its colour bar.
+    void wipesAndShowsDifferences() {
+        window_->selectView(1);
+        window_->setLayoutMode(Layout::Single);
+        const QImage technique = window_->composedFrame();
+        window_->compositorState().showReference = true;
+        window_->recompose();
+        const QImage reference = window_->composedFrame();
+        window_->compositorState().showReference = false;
+
+        window_->setLayoutMode(Layout::Split);
+        window_->compositorState().split = 0.5;
+        window_->recompose();
+        const QImage split = window_->composedFrame();
+        const QRect r = viewRects(window_->frames(), window_->compositorState(), split.size())[1];
+        QVERIFY(!r.isEmpty());
+        const int y = r.center().y();
+        const int leftX = r.x() + r.width() / 4, rightX = r.x() + 3 * r.width() / 4;
+        QCOMPARE(split.pixel(leftX, y), technique.pixel(leftX, y));
+        QCOMPARE(split.pixel(rightX, y), reference.pixel(rightX, y));
+        QTest::keyClick(window_->viewport(), Qt::Key_T);
+        QVERIFY(window_->compositorState().swapped);
+        QCOMPARE(window_->composedFrame().pixel(leftX, y), reference.pixel(leftX, y));
+        window_->compositorState().swapped = false;
+
+        window_->setLayoutMode(Layout::Single);
+        window_->compositorState().diff = DiffMode::Signed;
+        window_->recompose();
+        const QImage diff = window_->composedFrame();
+        QVERIFY(diff != technique);
+        window_->compositorState().diff = DiffMode::Off;
+        window_->setLayoutMode(Layout::Grid);
+    }
+
+    // The comparison export writes every view, reference and difference, the viewport and the metrics.
+    void exportsAComparison() {
+        const QString folder = QString(TYNDALL_TEST_TMP) + "/export";
+        QDir(folder).removeRecursively();
+        QString error;
+        QVERIFY2(window_->exportComparison(folder, &error), qPrintable(error));
+        for (const ViewFrame& f : window_->frames())
+            for (const char* suffix : {".exr", ".png", "-reference.exr", "-reference.png", "-diff.png"})
+                QVERIFY2(QFile::exists(folder + "/" + f.name + suffix), qPrintable(f.name + suffix));
+        QFile json(folder + "/metrics.json");
+        QVERIFY(json.open(QIODevice::ReadOnly));
+        const nlohmann::json metrics = nlohmann::json::parse(json.readAll().toStdString());
+        QCOMPARE(int(metrics.size()), 4);
+        QVERIFY(metrics[1].contains("relMSE"));
+        const QImage viewport(folder + "/viewport.png");
+        QCOMPARE(viewport.size(), window_->composedFrame().size());
+        QVERIFY(QFile::exists(folder + "/metrics.csv"));
+    }
+
+    // A broken project is refused with a dialog that names the file and the problem; the current project stays.
+    void refusesABrokenProject() {
+        const QString path = QString(TYNDALL_TEST_TMP) + "/broken.json";
+        QDir().mkpath(TYNDALL_TEST_TMP);
+        QFile file(path);
+        QVERIFY(file.open(QIODevice::WriteOnly));
+        file.write("{\"tyndall\": 1, \"camera\": {\"fovY\": 400}}");
+        file.close();
+        QString dialogText;
+        QTimer::singleShot(500, [&] {
+            for (QWidget* w : QApplication::topLevelWidgets())
+                if (auto* box = qobject_cast<QMessageBox*>(w); box && box->isVisible()) {
+                    dialogText = box->text();
+                    box->accept();
+                }
+        });
+        QVERIFY(!window_->openProject(path, true));
+        QVERIFY2(dialogText.contains("broken.json") && dialogText.contains("fovY"), qPrintable(dialogText));
+        QCOMPARE(window_->session().path(), kDefaultProject);
+        QCOMPARE(int(window_->frames().size()), 4);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        QVERIFY(window_->frames()[0].image);
+    }
+
+    void cleanupTestCase() { window_.reset(); }
+
+private:
+    QVulkanInstance* vulkan_;
+    std::unique_ptr<MainWindow> window_;
+};
+
+int main(int argc, char** argv) {
+    QApplication app(argc, argv);
+    QVulkanInstance vulkan;
+    vulkan.setApiVersion(QVersionNumber(1, 2));
+    if (!vulkan.create()) {
+        std::fprintf(stderr, "no Vulkan instance: %d\n", vulkan.errorCode());
+        return 1;
+    }
+    StudioTest test(&vulkan);
+    return QTest::qExec(&test, argc, argv);
+}
+
+#include "test_studio.moc"
