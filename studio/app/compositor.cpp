@@ -80,9 +80,10 @@ QString number(double v) {
 }
 
 QString labelOf(const ViewFrame& f, bool reference) {
-    QString line = f.name + "  -  " + (reference ? QString("reference") : f.technique);
+    QString line = f.name + "  -  " + (reference ? (f.snapshot ? "snapshot " + f.snapshotName : QString("reference"))
+                                                 : f.technique);
     if (reference) {
-        if (f.reference) line += QString("  %1 spp").arg(f.referenceSpp);
+        if (f.reference && !f.snapshot) line += QString("  %1 spp").arg(f.referenceSpp);
     } else if (f.image) {
         line += QString("  %1 ms").arg(f.seconds * 1e3, 0, 'f', 0);
         if (f.spp > 1) line += QString("  %1 spp").arg(f.spp);
@@ -96,7 +97,19 @@ QString metricsLine(const ViewFrame& f) {
     if (!f.metrics) return {};
     QString line = "relMSE " + number(f.metrics->relMSE) + "  PSNR " + number(f.metrics->psnr) + " dB";
     if (f.metrics->referenceNoiseRelMSE) line += "  ref. noise " + number(*f.metrics->referenceNoiseRelMSE);
+    if (f.regionMetrics) line += "  | region relMSE " + number(f.regionMetrics->relMSE);
     return line;
+}
+
+// The user's region, from image pixels into the view's rectangle on screen.
+void drawRegion(QPainter& p, QRect imageRect, QSize imageSize, QRect region) {
+    if (region.isEmpty() || imageSize.isEmpty()) return;
+    const double sx = double(imageRect.width()) / imageSize.width(), sy = double(imageRect.height()) / imageSize.height();
+    const QRect r(imageRect.x() + int(region.x() * sx), imageRect.y() + int(region.y() * sy),
+                  std::max(1, int(region.width() * sx)), std::max(1, int(region.height() * sy)));
+    p.setPen(QPen(QColor(255, 220, 0), 1, Qt::DashLine));
+    p.setBrush(Qt::NoBrush);
+    p.drawRect(r);
 }
 
 void drawLabel(QPainter& p, QRect imageRect, const QString& top, const QString& bottom) {
@@ -129,6 +142,10 @@ void drawColourBar(QPainter& p, QSize size, DiffMode mode, double scale) {
 }
 
 }  // namespace
+
+const std::shared_ptr<const Image>& comparand(const ViewFrame& frame) {
+    return frame.snapshot ? frame.snapshot : frame.reference;
+}
 
 QImage toDisplay(const Image& image, double exposure) {
     QImage out(image.width(), image.height(), QImage::Format_RGBA8888);
@@ -174,13 +191,13 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
     const std::vector<QRect> rects = cells(frames, state, size);
     const double scale = sharedDifferenceScale(frames);
     auto display = [&](const ViewFrame& f, bool reference) -> QImage {
-        const std::shared_ptr<const Image>& img = reference ? f.reference : f.image;
+        const std::shared_ptr<const Image>& against = comparand(f);
+        const std::shared_ptr<const Image>& img = reference ? against : f.image;
         if (!img) return {};
         const double exposure = f.exposure + state.exposureOffset;
         if (state.diff != DiffMode::Off && !reference) {
-            if (!f.reference || f.reference->width() != img->width() || f.reference->height() != img->height())
-                return {};
-            return differenceDisplay(*img, *f.reference, state.diff, scale);
+            if (!against || against->width() != img->width() || against->height() != img->height()) return {};
+            return differenceDisplay(*img, *against, state.diff, scale);
         }
         return toDisplay(*img, exposure);
     };
@@ -203,8 +220,10 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             }
             p.setPen(QPen(QColor(255, 255, 255), 1));
             p.drawLine(divider, r.y(), divider, r.bottom());
-            const QString sides = state.swapped ? "reference | " + f.technique : f.technique + " | reference";
+            const QString other = f.snapshot ? "snapshot " + f.snapshotName : QString("reference");
+            const QString sides = state.swapped ? other + " | " + f.technique : f.technique + " | " + other;
             drawLabel(p, r, f.name + "  -  " + sides, metricsLine(f));
+            if (f.image) drawRegion(p, r, QSize(f.image->width(), f.image->height()), state.region);
             continue;
         }
         const bool reference = state.layout == Layout::Single && state.showReference;
@@ -217,6 +236,7 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             p.drawImage(r, img);
         }
         drawLabel(p, r, labelOf(f, reference), reference ? QString() : metricsLine(f));
+        if (f.image) drawRegion(p, r, QSize(f.image->width(), f.image->height()), state.region);
     }
     if (state.diff != DiffMode::Off) drawColourBar(p, size, state.diff, scale);
     return frame;

@@ -30,6 +30,9 @@ struct ViewFrame {
     double exposure = 0.0;                    // the view's, EV
     bool rendering = false;                   // a newer render is on its way
     std::optional<Metrics> metrics;           // against the reference, when both exist at the same size
+    std::optional<Metrics> regionMetrics;     // the same over the user's region
+    std::shared_ptr<const Image> snapshot;    // the snapshot this view is compared against (null: the reference)
+    QString snapshotName;
     QString error;                            // the last render's failure
 };
 
@@ -41,7 +44,11 @@ struct CompositorState {
     bool swapped = false;        // split: the reference on the left
     DiffMode diff = DiffMode::Off;
     double exposureOffset = 0.0; // EV added to every view's exposure (E / Shift+E)
+    QRect region;                // image pixels; empty for none: drawn on every view, metrics over it
 };
+
+// The image a view is compared against: its snapshot when one is chosen, else its reference.
+const std::shared_ptr<const Image>& comparand(const ViewFrame& frame);
 
 // Linear RGB to 8-bit sRGB after 2^exposure, like the PNGs the CLI writes.
 QImage toDisplay(const Image& image, double exposure);

@@ -15,7 +15,10 @@
 #include <QLabel>
 #include <QListWidget>
 #include <QMenuBar>
+#include <QHBoxLayout>
 #include <QMessageBox>
+#include <QPushButton>
+#include <QVBoxLayout>
 #include <QSaveFile>
 #include <QStatusBar>
 #include <QToolBar>
@@ -72,6 +75,55 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     metricsDock->setWidget(metrics_);
     addDockWidget(Qt::RightDockWidgetArea, metricsDock);
 
+    auto* inspectorDock = new QDockWidget("Inspector", this);
+    inspectorDock->setObjectName("inspectorDock");
+    inspector_ = new QLabel("Move the cursor over a view");
+    inspector_->setObjectName("inspector");
+    inspector_->setTextFormat(Qt::RichText);
+    inspector_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+    inspectorDock->setWidget(inspector_);
+    addDockWidget(Qt::RightDockWidgetArea, inspectorDock);
+
+    auto* snapshotsDock = new QDockWidget("Snapshots", this);
+    snapshotsDock->setObjectName("snapshotsDock");
+    auto* snapshotsWidget = new QWidget;
+    auto* snapshotsLayout = new QVBoxLayout(snapshotsWidget);
+    snapshotList_ = new QListWidget;
+    snapshotList_->setObjectName("snapshotList");
+    auto* buttons = new QHBoxLayout;
+    auto* take = new QPushButton("Take");
+    auto* compare = new QPushButton("Compare");
+    compare->setCheckable(true);
+    auto* restore = new QPushButton("Restore");
+    take->setToolTip("Keep the current view's image with its parameters (K)");
+    compare->setToolTip("Compare the live view against the selected snapshot instead of the reference");
+    restore->setToolTip("Put the selected snapshot's parameters back on its view (undoable)");
+    buttons->addWidget(take);
+    buttons->addWidget(compare);
+    buttons->addWidget(restore);
+    snapshotsLayout->addWidget(snapshotList_);
+    snapshotsLayout->addLayout(buttons);
+    snapshotsDock->setWidget(snapshotsWidget);
+    addDockWidget(Qt::LeftDockWidgetArea, snapshotsDock);
+    connect(take, &QPushButton::clicked, this, [this] { takeSnapshot(); });
+    connect(compare, &QPushButton::toggled, this,
+            [this](bool on) { compareWithSnapshot(on ? snapshotList_->currentRow() : -1); });
+    connect(restore, &QPushButton::clicked, this, [this] { restoreSnapshot(snapshotList_->currentRow()); });
+
+    auto* plotsDock = new QDockWidget("Plots", this);
+    plotsDock->setObjectName("plotsDock");
+    plots_ = new PlotPanel;
+    convergence_ = new ConvergencePlot;
+    pdf_ = new PdfPlot;
+    plots_->addPlot(convergence_);
+    plots_->addPlot(pdf_);
+    plotsDock->setWidget(plots_);
+    addDockWidget(Qt::BottomDockWidgetArea, plotsDock);
+
+    probeTimer_.setSingleShot(true);
+    probeTimer_.setInterval(60);
+    connect(&probeTimer_, &QTimer::timeout, this, [this] { inspect(probePosition_); });
+
     buildMenus();
 
     connect(viewList_, &QListWidget::currentRowChanged, this, [this](int row) {
@@ -87,6 +139,7 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     });
     connect(&session_, &Session::viewChanged, this, [this](int view) {
         frames_[std::size_t(view)].exposure = session_.project().views[std::size_t(view)].exposure;
+        updateMetrics(view);
         dirtyViews_.insert(view);
         debounce_.start();
         recompose();
@@ -115,8 +168,21 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         state_.split = std::clamp((position.x() - r.x()) / r.width(), 0.0, 1.0);
         recompose();
     };
-    connect(viewport_, &Viewport::mousePressed, this, dragDivider);
-    connect(viewport_, &Viewport::mouseMoved, this, dragDivider);
+    connect(viewport_, &Viewport::mousePressed, this, [this, dragDivider](QPointF position, Qt::MouseButtons buttons) {
+        dragDivider(position, buttons);
+        int view;
+        QPoint pixel;
+        if ((buttons & Qt::RightButton) && viewAt(position, view, pixel)) regionStart_ = pixel;
+    });
+    connect(viewport_, &Viewport::mouseMoved, this, [this, dragDivider](QPointF position, Qt::MouseButtons buttons) {
+        dragDivider(position, buttons);
+        int view;
+        QPoint pixel;
+        if ((buttons & Qt::RightButton) && viewAt(position, view, pixel))
+            setRegion(QRect(regionStart_, pixel).normalized());
+        probePosition_ = position;
+        if (!probeTimer_.isActive()) probeTimer_.start();
+    });
     connect(viewport_, &Viewport::mouseDoubleClicked, this, [this](QPointF) {
         state_.split = 0.5;
         recompose();
@@ -215,6 +281,12 @@ void MainWindow::rebuildViews() {
     generation_.assign(project.views.size(), 0);
     referenceGeneration_.assign(project.views.size(), 0);
     pending_.assign(project.views.size(), false);
+    referencePending_.assign(project.views.size(), false);
+    progress_.assign(project.views.size(), {});
+    snapshots_.clear();
+    comparedSnapshot_ = -1;
+    state_.region = QRect();
+    refreshSnapshotList();
     viewList_->clear();
     for (std::size_t i = 0; i < project.views.size(); ++i) {
         const View& v = project.views[i];
@@ -247,6 +319,8 @@ void MainWindow::renderView(int view, bool reference) {
     if (!reference) {
         pending_[std::size_t(view)] = true;
         frames_[std::size_t(view)].rendering = true;
+    } else {
+        referencePending_[std::size_t(view)] = true;
     }
     renderer_->submit(std::move(task));
 }
@@ -261,6 +335,8 @@ void MainWindow::renderAll() {
 
 bool MainWindow::settled() const {
     for (bool p : pending_)
+        if (p) return false;
+    for (bool p : referencePending_)
         if (p) return false;
     return renderer_->idle() && dirtyViews_.empty() && !debounce_.isActive();
 }
@@ -286,21 +362,55 @@ void MainWindow::onOutput(const RenderOutput& out) {
         pending_[std::size_t(out.view)] = false;
         f.rendering = false;
     }
-    f.metrics.reset();
-    if (f.image && f.reference && f.image->width() == f.reference->width() &&
-        f.image->height() == f.reference->height()) {
-        try {
-            f.metrics = computeMetrics(*f.image, *f.reference, f.exposure);
-        } catch (const std::exception&) {
-        }
+    if (out.reference && out.final) referencePending_[std::size_t(out.view)] = false;
+    if (!out.reference && out.image) {
+        std::vector<Progress>& progress = progress_[std::size_t(out.view)];
+        if (!progress.empty() && progress.back().spp >= out.spp) progress.clear();  // a new render started over
+        progress.push_back({out.spp, out.seconds, out.image});
     }
+    updateMetrics(out.view);
+    updateConvergence();
     updateMetricsDock();
     recompose();
 }
 
+void MainWindow::updateMetrics(int view) {
+    ViewFrame& f = frames_[std::size_t(view)];
+    f.metrics.reset();
+    f.regionMetrics.reset();
+    const std::shared_ptr<const Image>& against = comparand(f);
+    if (!f.image || !against || f.image->width() != against->width() || f.image->height() != against->height())
+        return;
+    try {
+        f.metrics = computeMetrics(*f.image, *against, f.exposure);
+        const QRect r = state_.region.intersected(QRect(0, 0, f.image->width(), f.image->height()));
+        if (!r.isEmpty()) f.regionMetrics = computeMetrics(*f.image, *against, f.exposure, {r.x(), r.y(), r.width(), r.height()});
+    } catch (const std::exception&) {
+    }
+}
+
+void MainWindow::updateConvergence() {
+    std::vector<QString> names;
+    std::vector<std::vector<ConvergencePoint>> points;
+    for (std::size_t i = 0; i < frames_.size(); ++i) {
+        const ViewFrame& f = frames_[i];
+        names.push_back(f.name);
+        points.emplace_back();
+        if (!f.reference) continue;
+        for (const Progress& p : progress_[i]) {
+            if (p.image->width() != f.reference->width() || p.image->height() != f.reference->height()) continue;
+            try {
+                points.back().push_back({p.spp, p.seconds, computeMetrics(*p.image, *f.reference).relMSE});
+            } catch (const std::exception&) {
+            }
+        }
+    }
+    convergence_->setSeries(names, points);
+}
+
 void MainWindow::updateMetricsDock() {
     QString html = "<table cellspacing=4><tr><th align=left>view</th><th>relMSE</th><th>PSNR</th><th>ref. noise</th>"
-                   "<th>bias %</th></tr>";
+                   "<th>bias %</th><th>region relMSE</th></tr>";
     for (const ViewFrame& f : frames_) {
         html += "<tr><td>" + f.name.toHtmlEscaped() + "</td>";
         if (f.metrics)
@@ -309,9 +419,11 @@ void MainWindow::updateMetricsDock() {
                         .arg(f.metrics->psnr, 0, 'g', 4)
                         .arg(f.metrics->referenceNoiseRelMSE ? QString::number(*f.metrics->referenceNoiseRelMSE, 'g', 3)
                                                              : QString("-"))
-                        .arg(f.metrics->energyBias, 0, 'g', 3);
+                        .arg(f.metrics->energyBias, 0, 'g', 3) +
+                    "<td>" + (f.regionMetrics ? QString::number(f.regionMetrics->relMSE, 'g', 3) : QString("-")) +
+                    "</td>";
         else
-            html += "<td colspan=4>waiting for both images</td>";
+            html += "<td colspan=5>waiting for both images</td>";
         html += "</tr>";
     }
     metrics_->setText(html + "</table>");
@@ -359,6 +471,10 @@ void MainWindow::onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed) {
     } else if (key == Qt::Key_D) {
         state_.diff = DiffMode((int(state_.diff) + 1) % 4);
         recompose();
+    } else if (key == Qt::Key_K) {
+        takeSnapshot();
+    } else if (key == Qt::Key_Escape) {
+        setRegion(QRect());
     }
 }
 
@@ -402,6 +518,123 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     event->accept();
 }
 
+int MainWindow::takeSnapshot() {
+    if (state_.current < 0 || state_.current >= int(frames_.size())) return -1;
+    const ViewFrame& f = frames_[std::size_t(state_.current)];
+    if (!f.image) return -1;
+    const View& view = session_.project().views[std::size_t(state_.current)];
+    Snapshot shot;
+    shot.view = state_.current;
+    shot.image = f.image;
+    shot.parameters = view.parameters;
+    shot.exposure = view.exposure;
+    shot.name = QString("%1 #%2").arg(f.name).arg(snapshots_.size() + 1);
+    snapshots_.push_back(shot);
+    refreshSnapshotList();
+    snapshotList_->setCurrentRow(int(snapshots_.size()) - 1);
+    return int(snapshots_.size()) - 1;
+}
+
+void MainWindow::refreshSnapshotList() {
+    snapshotList_->clear();
+    for (const Snapshot& s : snapshots_) {
+        QString params = QString::fromStdString(s.parameters.dump());
+        if (params.size() > 60) params = params.left(57) + "...";
+        snapshotList_->addItem(s.name + "  " + params);
+    }
+}
+
+void MainWindow::compareWithSnapshot(int index) {
+    for (ViewFrame& f : frames_) {
+        f.snapshot.reset();
+        f.snapshotName.clear();
+    }
+    comparedSnapshot_ = index >= 0 && index < int(snapshots_.size()) ? index : -1;
+    if (comparedSnapshot_ >= 0) {
+        const Snapshot& s = snapshots_[std::size_t(comparedSnapshot_)];
+        frames_[std::size_t(s.view)].snapshot = s.image;
+        frames_[std::size_t(s.view)].snapshotName = s.name;
+    }
+    for (int i = 0; i < int(frames_.size()); ++i)
+        updateMetrics(i);
+    updateMetricsDock();
+    recompose();
+}
+
+void MainWindow::restoreSnapshot(int index) {
+    if (index < 0 || index >= int(snapshots_.size())) return;
+    const Snapshot& s = snapshots_[std::size_t(index)];
+    const nlohmann::json current = session_.project().views[std::size_t(s.view)].parameters;
+    session_.undoStack()->beginMacro("restore " + s.name);
+    for (const auto& [key, value] : current.items())
+        if (!s.parameters.contains(key)) session_.setParameter(s.view, key, nlohmann::json());
+    for (const auto& [key, value] : s.parameters.items())
+        session_.setParameter(s.view, key, value);
+    session_.setExposure(s.view, s.exposure);
+    session_.undoStack()->endMacro();
+}
+
+bool MainWindow::viewAt(QPointF position, int& view, QPoint& pixel) const {
+    const std::vector<QRect> rects = viewRects(frames_, state_, viewport_->pixelSize().expandedTo(QSize(64, 48)));
+    for (std::size_t i = 0; i < rects.size(); ++i) {
+        const QRect& r = rects[i];
+        if (r.isEmpty() || !r.contains(position.toPoint())) continue;
+        const std::shared_ptr<const Image>& img = frames_[i].image ? frames_[i].image : frames_[i].reference;
+        if (!img) return false;
+        view = int(i);
+        pixel = QPoint(std::clamp(int((position.x() - r.x()) / r.width() * img->width()), 0, img->width() - 1),
+                       std::clamp(int((position.y() - r.y()) / r.height() * img->height()), 0, img->height() - 1));
+        return true;
+    }
+    return false;
+}
+
+QString MainWindow::inspectorText() const {
+    return inspector_->text();
+}
+
+void MainWindow::inspect(QPointF position) {
+    int view;
+    QPoint pixel;
+    if (!viewAt(position, view, pixel)) return;
+    auto rgb = [&](const std::shared_ptr<const Image>& img) {
+        if (!img || pixel.x() >= img->width() || pixel.y() >= img->height()) return QString("-");
+        return QString("%1, %2, %3")
+            .arg(img->at(pixel.x(), pixel.y(), 0), 0, 'g', 4)
+            .arg(img->at(pixel.x(), pixel.y(), 1), 0, 'g', 4)
+            .arg(img->at(pixel.x(), pixel.y(), 2), 0, 'g', 4);
+    };
+    QString html = QString("<b>pixel %1, %2</b><table cellspacing=3>").arg(pixel.x()).arg(pixel.y());
+    for (const ViewFrame& f : frames_)
+        html += "<tr><td>" + f.name.toHtmlEscaped() + "</td><td>" + rgb(f.image) + "</td><td>ref " + rgb(f.reference) +
+                "</td></tr>";
+    inspector_->setText(html + "</table>");
+
+    // The PDF plot, for a technique that samples distances.
+    const Project& project = session_.project();
+    try {
+        RenderJob job = makeViewJob(project, session_.path().toStdString(), project.views[std::size_t(view)].name);
+        bool hasProbe = false;
+        for (const ProbeInfo& p : job.technique->probes())
+            hasProbe |= p.name == "distances";
+        if (!hasProbe) {
+            pdf_->showMessage(frames_[std::size_t(view)].technique + " has no distance probe");
+            return;
+        }
+        pdf_->showProbe(job.technique->probe(job.request, "distances", pixel.x(), pixel.y()));
+    } catch (const std::exception& e) {
+        pdf_->showMessage(QString::fromStdString(e.what()));
+    }
+}
+
+void MainWindow::setRegion(QRect region) {
+    state_.region = region;
+    for (int i = 0; i < int(frames_.size()); ++i)
+        updateMetrics(i);
+    updateMetricsDock();
+    recompose();
+}
+
 bool MainWindow::exportComparison(const QString& folder, QString* error) {
     try {
         QDir dir(folder);
@@ -435,6 +668,21 @@ bool MainWindow::exportComparison(const QString& folder, QString* error) {
         writeText("metrics.json", metrics.dump(2) + "\n");
         writeText("metrics.csv", csv);
         if (!composed_.save(dir.filePath("viewport.png"))) throw std::runtime_error("cannot write viewport.png");
+        for (Plot* plot : plots_->plots())
+            for (const char* suffix : {".png", ".svg"}) {
+                QString why;
+                if (!plot->exportTo(dir.filePath("plot-" + plot->name() + suffix), &why))
+                    throw std::runtime_error(why.toStdString());
+            }
+        // Region insets: the region of every view and of its reference, when a region is drawn.
+        const QRect region = state_.region;
+        for (const ViewFrame& f : frames_) {
+            if (region.isEmpty() || !f.image) continue;
+            const QRect r = region.intersected(QRect(0, 0, f.image->width(), f.image->height()));
+            if (r.isEmpty()) continue;
+            toDisplay(*f.image, f.exposure).copy(r).save(dir.filePath(f.name + "-region.png"));
+            if (f.reference) toDisplay(*f.reference, f.exposure).copy(r).save(dir.filePath(f.name + "-reference-region.png"));
+        }
         return true;
     } catch (const std::exception& e) {
         if (error) *error = QString::fromStdString(e.what());

@@ -5,6 +5,7 @@
 
 #include "compositor.h"
 #include "parameter_panel.h"
+#include "plots.h"
 #include "render_service.h"
 #include "session.h"
 #include "viewport.h"
@@ -48,6 +49,31 @@ public:
     void selectView(int view);
     void recompose();
 
+    // Snapshots (render slots): a copy of the current view's image with its parameters and exposure.
+    struct Snapshot {
+        QString name;
+        int view = 0;
+        std::shared_ptr<const Image> image;
+        nlohmann::json parameters;
+        double exposure = 0.0;
+    };
+    int takeSnapshot();                    // of the current view; returns its index, -1 without an image
+    void compareWithSnapshot(int index);   // its view is compared against it instead of the reference; -1: off
+    void restoreSnapshot(int index);       // its parameters and exposure back on its view, as one undoable edit
+    const std::vector<Snapshot>& snapshots() const { return snapshots_; }
+
+    // The view and image pixel under a viewport position; false outside every view.
+    bool viewAt(QPointF position, int& view, QPoint& pixel) const;
+    // What the cursor at `position` shows: the inspector's values and, for a technique with a "distances" probe, the
+    // PDF plot.
+    void inspect(QPointF position);
+    // Metrics over `region` (image pixels; empty: none) of every view.
+    void setRegion(QRect region);
+    QString inspectorText() const;
+    PlotPanel* plots() { return plots_; }
+    ConvergencePlot* convergencePlot() { return convergence_; }
+    PdfPlot* pdfPlot() { return pdf_; }
+
 protected:
     void closeEvent(QCloseEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
@@ -62,6 +88,9 @@ private:
     void onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed);
     void updateTitle();
     void updateMetricsDock();
+    void updateMetrics(int view);
+    void updateConvergence();
+    void refreshSnapshotList();
     bool confirmDiscard();
 
     Session session_;
@@ -74,11 +103,30 @@ private:
     CompositorState state_;
     std::vector<ViewFrame> frames_;
     std::vector<quint64> generation_, referenceGeneration_;
-    std::vector<bool> pending_;   // a technique render of the view is queued or running
+    std::vector<bool> pending_;           // a technique render of the view is queued or running
+    std::vector<bool> referencePending_;  // so is a reference render
     std::set<int> dirtyViews_;    // edited views waiting for the debounce
     QTimer debounce_;
     QImage composed_;
     quint64 nextGeneration_ = 1;
+
+    PlotPanel* plots_ = nullptr;
+    ConvergencePlot* convergence_ = nullptr;
+    PdfPlot* pdf_ = nullptr;
+    QLabel* inspector_ = nullptr;
+    QListWidget* snapshotList_ = nullptr;
+    std::vector<Snapshot> snapshots_;
+    int comparedSnapshot_ = -1;
+    // The images of each view's current render as it refined, for the convergence plot.
+    struct Progress {
+        int spp = 0;
+        double seconds = 0.0;
+        std::shared_ptr<const Image> image;
+    };
+    std::vector<std::vector<Progress>> progress_;
+    QPoint regionStart_;
+    QTimer probeTimer_;
+    QPointF probePosition_;
 };
 
 }  // namespace tyndall::studio

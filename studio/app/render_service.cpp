@@ -83,7 +83,8 @@ void RenderService::run() {
         out.view = task->view;
         out.reference = task->reference;
         out.generation = task->generation;
-        auto lastPost = Clock::now();
+        const auto started = Clock::now();
+        auto lastPost = started;
         RenderCallbacks callbacks;
         callbacks.cancel = &cancel_;
         callbacks.intermediate = [&](const Image& image, int spp) {
@@ -93,6 +94,7 @@ void RenderService::run() {
             RenderOutput partial = out;
             partial.image = std::make_shared<Image>(image);
             partial.spp = spp;
+            partial.seconds = std::chrono::duration<double>(lastPost - started).count();
             post(std::move(partial));
         };
         bool cancelled = false;

@@ -5,6 +5,8 @@
 
 #include <QApplication>
 #include <QCheckBox>
+#include <QComboBox>
+#include <qcustomplot.h>
 #include <QDir>
 #include <QFile>
 #include <QMessageBox>
@@ -183,6 +185,64 @@ private slots:
         window_->setLayoutMode(Layout::Grid);
     }
 
+    // A snapshot keeps a view's image and parameters: change the estimator, compare the live view against the
+    // snapshot, restore it (one undoable edit) and get the snapshot's very image back.
+    void takesComparesAndRestoresASnapshot() {
+        window_->selectView(1);
+        QCOMPARE(window_->takeSnapshot(), 0);
+        const auto shot = window_->snapshots()[0];
+        QVERIFY(shot.image == window_->frames()[1].image);
+        auto* estimator = window_->findChild<QComboBox*>("param:estimator");
+        QVERIFY(estimator);
+        estimator->setCurrentText("rm");
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        QVERIFY(!samePixels(*window_->frames()[1].image, *shot.image));
+
+        window_->compareWithSnapshot(0);
+        const ViewFrame& compared = window_->frames()[1];
+        QVERIFY(compared.snapshot == shot.image);
+        QVERIFY(compared.metrics && compared.metrics->relMSE > 0.0);
+        window_->setLayoutMode(Layout::Single);
+        window_->compositorState().showReference = true;
+        window_->recompose();
+        const QImage snapshotShown = window_->composedFrame();
+        window_->compositorState().showReference = false;
+        window_->setLayoutMode(Layout::Grid);
+
+        const int undoBefore = window_->session().undoStack()->count();
+        window_->restoreSnapshot(0);
+        QCOMPARE(window_->session().undoStack()->count(), undoBefore + 1);
+        QVERIFY(window_->session().project().views[1].parameters == shot.parameters);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        QVERIFY(samePixels(*window_->frames()[1].image, *shot.image));
+        QVERIFY(window_->frames()[1].metrics && window_->frames()[1].metrics->relMSE == 0.0);
+        window_->compareWithSnapshot(-1);
+        QVERIFY(!window_->frames()[1].snapshot);
+        QVERIFY(snapshotShown != window_->composedFrame());
+    }
+
+    // The cursor over the WVDS view fills the inspector with every view's value there and the PDF plot with the
+    // probe's histograms and pdfs; the convergence plot has each view's error over spp; a region gets its metrics.
+    void inspectsPlotsAndMeasuresARegion() {
+        window_->setLayoutMode(Layout::Grid);
+        window_->recompose();
+        const QRect r = viewRects(window_->frames(), window_->compositorState(), window_->viewport()->pixelSize())[1];
+        QVERIFY(!r.isEmpty());
+        window_->inspect(QPointF(r.x() + r.width() * 0.5, r.y() + r.height() * 0.6));
+        QVERIFY2(window_->inspectorText().contains("pixel"), qPrintable(window_->inspectorText()));
+        QVERIFY(window_->inspectorText().contains("light shaft"));
+        QCOMPARE(window_->pdfPlot()->plot()->graphCount(), 6);
+        QVERIFY(window_->pdfPlot()->plot()->graph(0)->dataCount() == 256);
+        int withPoints = 0;
+        for (int g = 0; g < window_->convergencePlot()->plot()->graphCount(); ++g)
+            withPoints += window_->convergencePlot()->plot()->graph(g)->dataCount() > 0;
+        QVERIFY(withPoints >= 3);
+
+        window_->setRegion(QRect(20, 20, 40, 30));
+        for (const ViewFrame& f : window_->frames())
+            QVERIFY2(f.regionMetrics.has_value(), qPrintable(f.name));
+    }
+
     // The comparison export writes every view, reference and difference, the viewport and the metrics.
     void exportsAComparison() {
         const QString folder = QString(TYNDALL_TEST_TMP) + "/export";
@@ -200,6 +260,13 @@ private slots:
         const QImage viewport(folder + "/viewport.png");
         QCOMPARE(viewport.size(), window_->composedFrame().size());
         QVERIFY(QFile::exists(folder + "/metrics.csv"));
+        for (const char* plot : {"/plot-convergence.png", "/plot-convergence.svg", "/plot-pdf.png", "/plot-pdf.svg"})
+            QVERIFY2(QFile(folder + plot).size() > 1000, plot);
+        QFile svg(folder + "/plot-pdf.svg");
+        QVERIFY(svg.open(QIODevice::ReadOnly));
+        QVERIFY(svg.readAll().contains("<svg"));
+        QVERIFY(QImage(folder + "/light shaft-region.png").size() == QSize(40, 30));
+        window_->setRegion(QRect());
     }
 
     // A broken project is refused with a dialog that names the file and the problem; the current project stays.
