@@ -1,5 +1,6 @@
 #include "main_window.h"
 
+#include "tyndall/geometry.h"
 #include "tyndall/image_io.h"
 #include "tyndall/render.h"
 
@@ -11,6 +12,7 @@
 #include <QDockWidget>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QGuiApplication>
 #include <QKeyEvent>
 #include <QLabel>
 #include <QListWidget>
@@ -26,12 +28,36 @@
 
 #include <nlohmann/json.hpp>
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+
 namespace tyndall::studio {
 
 namespace {
 
 // Debounce of re-renders after an edit: a slider drag renders once it pauses.
 constexpr int kDebounceMs = 120;
+
+// What a view's render depends on in the scene: the camera, the surfaces and its part's lights and media, as JSON.
+std::string partKeyOf(const Project& project, const View& view) {
+    nlohmann::json j = projectToJson(project);
+    ScenePart part;
+    try {
+        part = resolvePart(project, view);
+    } catch (const std::exception&) {
+        return j.dump();
+    }
+    nlohmann::json key = {{"camera", j["camera"]}, {"meshes", j.value("meshes", nlohmann::json())},
+                          {"materials", j.value("materials", nlohmann::json())}, {"reference", j["reference"]}};
+    for (const char* group : {"lights", "media", "particleMedia"}) {
+        if (!j.contains(group)) continue;
+        const std::vector<std::string>& names = std::string(group) == "lights" ? part.lights : part.media;
+        for (const auto& e : j[group])
+            if (std::find(names.begin(), names.end(), e.value("name", "")) != names.end()) key[group].push_back(e);
+    }
+    return key.dump();
+}
 
 QString displayNameOf(const std::string& technique) {
     try {
@@ -124,6 +150,12 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     probeTimer_.setInterval(60);
     connect(&probeTimer_, &QTimer::timeout, this, [this] { inspect(probePosition_); });
 
+    auto* sceneDock = new QDockWidget("Scene", this);
+    sceneDock->setObjectName("sceneDock");
+    scene_ = new ScenePanel(session_);
+    sceneDock->setWidget(scene_);
+    addDockWidget(Qt::LeftDockWidgetArea, sceneDock);
+
     buildMenus();
 
     connect(viewList_, &QListWidget::currentRowChanged, this, [this](int row) {
@@ -145,14 +177,29 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         recompose();
     });
     connect(&session_, &Session::modifiedChanged, this, [this](bool) { updateTitle(); });
+    connect(&session_, &Session::sceneChanged, this, [this] {
+        // Only views whose part of the scene changed render again, with their references.
+        for (int i = 0; i < int(frames_.size()); ++i) {
+            const std::string key = partKeyOf(session_.project(), session_.project().views[std::size_t(i)]);
+            if (key == partKeys_[std::size_t(i)]) continue;
+            partKeys_[std::size_t(i)] = key;
+            dirtyParts_.insert(i);
+        }
+        debounce_.start();
+    });
     connect(renderer_, &RenderService::output, this, &MainWindow::onOutput);
 
     debounce_.setSingleShot(true);
     debounce_.setInterval(kDebounceMs);
     connect(&debounce_, &QTimer::timeout, this, [this] {
+        for (int view : dirtyParts_) {
+            dirtyViews_.insert(view);
+            renderView(view, true);
+        }
         for (int view : dirtyViews_)
             renderView(view, false);
         dirtyViews_.clear();
+        dirtyParts_.clear();
     });
 
     connect(viewport_, &Viewport::resized, this, [this](QSize) { recompose(); });
@@ -168,13 +215,22 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         state_.split = std::clamp((position.x() - r.x()) / r.width(), 0.0, 1.0);
         recompose();
     };
+    connect(viewport_, &Viewport::wheelTurned, this, [this](double steps) { dollyCamera(std::pow(0.9, steps)); });
     connect(viewport_, &Viewport::mousePressed, this, [this, dragDivider](QPointF position, Qt::MouseButtons buttons) {
+        lastMouse_ = position;
+        if (QGuiApplication::keyboardModifiers() & Qt::AltModifier) return;  // camera navigation
         dragDivider(position, buttons);
         int view;
         QPoint pixel;
         if ((buttons & Qt::RightButton) && viewAt(position, view, pixel)) regionStart_ = pixel;
     });
     connect(viewport_, &Viewport::mouseMoved, this, [this, dragDivider](QPointF position, Qt::MouseButtons buttons) {
+        const QPointF delta = position - lastMouse_;
+        lastMouse_ = position;
+        if ((QGuiApplication::keyboardModifiers() & Qt::AltModifier) && (buttons & Qt::LeftButton)) {
+            orbitCamera(-delta.x() * 0.01, -delta.y() * 0.01);
+            return;
+        }
         dragDivider(position, buttons);
         int view;
         QPoint pixel;
@@ -282,6 +338,9 @@ void MainWindow::rebuildViews() {
     referenceGeneration_.assign(project.views.size(), 0);
     pending_.assign(project.views.size(), false);
     referencePending_.assign(project.views.size(), false);
+    partKeys_.clear();
+    for (const View& v : project.views)
+        partKeys_.push_back(partKeyOf(project, v));
     progress_.assign(project.views.size(), {});
     snapshots_.clear();
     comparedSnapshot_ = -1;
@@ -338,7 +397,7 @@ bool MainWindow::settled() const {
         if (p) return false;
     for (bool p : referencePending_)
         if (p) return false;
-    return renderer_->idle() && dirtyViews_.empty() && !debounce_.isActive();
+    return renderer_->idle() && dirtyViews_.empty() && dirtyParts_.empty() && !debounce_.isActive();
 }
 
 void MainWindow::onOutput(const RenderOutput& out) {
@@ -471,6 +530,8 @@ void MainWindow::onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed) {
     } else if (key == Qt::Key_D) {
         state_.diff = DiffMode((int(state_.diff) + 1) % 4);
         recompose();
+    } else if (key == Qt::Key_F) {
+        frameScene();
     } else if (key == Qt::Key_K) {
         takeSnapshot();
     } else if (key == Qt::Key_Escape) {
@@ -516,6 +577,63 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     }
     renderer_->cancelAll();
     event->accept();
+}
+
+void MainWindow::orbitCamera(double yaw, double pitch) {
+    const Camera& cam = session_.project().scene.camera;
+    const Vec3 up = glm::normalize(cam.up);
+    Vec3 offset = cam.position - cam.target;
+    const double distance = glm::length(offset);
+    if (!(distance > 0.0)) return;
+    // Yaw about the up hint, then pitch about the camera's right axis, kept away from the poles.
+    offset = glm::dmat3(glm::rotate(glm::dmat4(1.0), yaw, up)) * offset;
+    const Vec3 right = glm::normalize(glm::cross(-offset, up));
+    const Vec3 pitched = glm::dmat3(glm::rotate(glm::dmat4(1.0), pitch, right)) * offset;
+    if (std::abs(glm::dot(glm::normalize(pitched), up)) < 0.98) offset = pitched;
+    const Vec3 p = cam.target + offset;
+    QString error;
+    if (!session_.editScene({"camera.position=[" + std::to_string(p.x) + "," + std::to_string(p.y) + "," +
+                             std::to_string(p.z) + "]"},
+                            "orbit", &error, 1))
+        statusBar()->showMessage(error, 5000);
+}
+
+void MainWindow::dollyCamera(double factor) {
+    const Camera& cam = session_.project().scene.camera;
+    const Vec3 p = cam.target + (cam.position - cam.target) * factor;
+    QString error;
+    if (!session_.editScene({"camera.position=[" + std::to_string(p.x) + "," + std::to_string(p.y) + "," +
+                             std::to_string(p.z) + "]"},
+                            "dolly", &error, 2))
+        statusBar()->showMessage(error, 5000);
+}
+
+void MainWindow::frameScene() {
+    const Project& project = session_.project();
+    Vec3 lo(1e300), hi(-1e300);
+    const std::string dir = QFileInfo(session_.path()).path().toStdString();
+    for (const Mesh& mesh : project.scene.meshes) {
+        try {
+            for (const glm::vec3& v : buildMesh(mesh, dir).positions) {
+                lo = glm::min(lo, Vec3(v));
+                hi = glm::max(hi, Vec3(v));
+            }
+        } catch (const std::exception&) {
+        }
+    }
+    if (!(lo.x <= hi.x)) return;
+    const Camera& cam = project.scene.camera;
+    const Vec3 centre = 0.5 * (lo + hi);
+    const double radius = 0.5 * glm::length(hi - lo);
+    const Vec3 dirToCamera = glm::normalize(cam.position - cam.target);
+    const double distance = radius / std::sin(glm::radians(cam.fovY) * 0.5);
+    const Vec3 p = centre + dirToCamera * distance;
+    auto vec = [](const Vec3& v) {
+        return "[" + std::to_string(v.x) + "," + std::to_string(v.y) + "," + std::to_string(v.z) + "]";
+    };
+    QString error;
+    if (!session_.editScene({"camera.position=" + vec(p), "camera.target=" + vec(centre)}, "frame the scene", &error))
+        statusBar()->showMessage(error, 5000);
 }
 
 int MainWindow::takeSnapshot() {

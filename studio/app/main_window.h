@@ -7,6 +7,7 @@
 #include "parameter_panel.h"
 #include "plots.h"
 #include "render_service.h"
+#include "scene_panel.h"
 #include "session.h"
 #include "viewport.h"
 
@@ -67,6 +68,13 @@ public:
     // What the cursor at `position` shows: the inspector's values and, for a technique with a "distances" probe, the
     // PDF plot.
     void inspect(QPointF position);
+    // Camera navigation, each an undoable scene edit: orbit about the target (radians), dolly (factor on the distance),
+    // and framing the scene's meshes.
+    void orbitCamera(double yaw, double pitch);
+    void dollyCamera(double factor);
+    void frameScene();
+    ScenePanel* scenePanel() { return scene_; }
+
     // Metrics over `region` (image pixels; empty: none) of every view.
     void setRegion(QRect region);
     QString inspectorText() const;
@@ -106,6 +114,10 @@ private:
     std::vector<bool> pending_;           // a technique render of the view is queued or running
     std::vector<bool> referencePending_;  // so is a reference render
     std::set<int> dirtyViews_;    // edited views waiting for the debounce
+    std::set<int> dirtyParts_;    // views whose part of the scene changed: the view and its reference re-render
+    std::vector<std::string> partKeys_;
+    ScenePanel* scene_ = nullptr;
+    QPointF lastMouse_;
     QTimer debounce_;
     QImage composed_;
     quint64 nextGeneration_ = 1;

@@ -47,6 +47,28 @@ private:
     double before_, after_;
 };
 
+class EditSceneCommand final : public QUndoCommand {
+public:
+    EditSceneCommand(Session& session, nlohmann::json before, nlohmann::json after, const QString& text, int mergeId)
+        : session_(session), before_(std::move(before)), after_(std::move(after)), mergeId_(mergeId) {
+        setText(text);
+    }
+    void undo() override { session_.applyProjectJson(before_); }
+    void redo() override { session_.applyProjectJson(after_); }
+    int id() const override { return mergeId_ < 0 ? -1 : 1000 + mergeId_; }
+    bool mergeWith(const QUndoCommand* other) override {
+        const auto* o = dynamic_cast<const EditSceneCommand*>(other);
+        if (!o || o->mergeId_ != mergeId_) return false;
+        after_ = o->after_;
+        return true;
+    }
+
+private:
+    Session& session_;
+    nlohmann::json before_, after_;
+    int mergeId_;
+};
+
 }  // namespace
 
 Session::Session(QObject* parent) : QObject(parent) {
@@ -96,6 +118,25 @@ void Session::setExposure(int view, double exposure) {
     const double before = project_.views[std::size_t(view)].exposure;
     if (before == exposure) return;
     undo_.push(new SetExposureCommand(*this, view, before, exposure));
+}
+
+bool Session::editScene(const std::vector<std::string>& overrides, const QString& text, QString* error, int mergeId) {
+    try {
+        const nlohmann::json before = projectToJson(project_);
+        const Project edited = parseProject(before.dump(), path_.toStdString(), overrides);
+        const nlohmann::json after = projectToJson(edited);
+        if (after == before) return true;
+        undo_.push(new EditSceneCommand(*this, before, after, text, mergeId));
+        return true;
+    } catch (const std::exception& e) {
+        if (error) *error = QString::fromStdString(e.what());
+        return false;
+    }
+}
+
+void Session::applyProjectJson(const nlohmann::json& json) {
+    project_ = projectFromJson(json, path_.toStdString());
+    emit sceneChanged();
 }
 
 void Session::applyParameter(int view, const std::string& name, const nlohmann::json& value) {

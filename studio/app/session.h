@@ -29,6 +29,11 @@ public:
     // An undoable edit of view `view`'s parameter: `value` null restores the technique's default.
     void setParameter(int view, const std::string& name, const nlohmann::json& value);
     void setExposure(int view, double exposure);
+    // An undoable edit of the scene by `overrides` ("camera.fovY=50", "lights[sun].irradiance=[3,3,3]": the CLI's
+    // --set paths). The result is validated like a loaded file: on failure nothing changes and `error` says why.
+    // Edits with the same non-negative mergeId in a row are one undo step (a drag).
+    bool editScene(const std::vector<std::string>& overrides, const QString& text, QString* error, int mergeId = -1);
+    void applyProjectJson(const nlohmann::json& json);
     // What the commands call; not undoable by themselves.
     void applyParameter(int view, const std::string& name, const nlohmann::json& value);
     void applyExposure(int view, double exposure);
@@ -36,6 +41,7 @@ public:
 signals:
     void projectReplaced();        // a new project was opened
     void viewChanged(int view);    // a view's parameters or exposure changed
+    void sceneChanged();           // the scene (camera, media, lights, ...) changed
     void modifiedChanged(bool modified);
 
 private:

@@ -4,6 +4,7 @@
 
 #include <QKeyEvent>
 #include <QMouseEvent>
+#include <QWheelEvent>
 #include <QVulkanDeviceFunctions>
 #include <QVulkanFunctions>
 
@@ -302,6 +303,10 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
 
 void Viewport::mouseDoubleClickEvent(QMouseEvent* event) {
     emit mouseDoubleClicked(event->position() * devicePixelRatio());
+}
+
+void Viewport::wheelEvent(QWheelEvent* event) {
+    emit wheelTurned(event->angleDelta().y() / 120.0);
 }
 
 }  // namespace tyndall::studio

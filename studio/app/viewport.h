@@ -33,6 +33,7 @@ signals:
     void mousePressed(QPointF position, Qt::MouseButtons buttons);
     void mouseMoved(QPointF position, Qt::MouseButtons buttons);
     void mouseDoubleClicked(QPointF position);
+    void wheelTurned(double steps);  // + away from the user (dolly in)
 
 protected:
     void resizeEvent(QResizeEvent* event) override;
@@ -41,6 +42,7 @@ protected:
     void mousePressEvent(QMouseEvent* event) override;
     void mouseMoveEvent(QMouseEvent* event) override;
     void mouseDoubleClickEvent(QMouseEvent* event) override;
+    void wheelEvent(QWheelEvent* event) override;
 
 private:
     QImage frame_;

@@ -6,6 +6,7 @@
 #include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
+#include <QDoubleSpinBox>
 #include <qcustomplot.h>
 #include <QDir>
 #include <QFile>
@@ -241,6 +242,50 @@ private slots:
         window_->setRegion(QRect(20, 20, 40, 30));
         for (const ViewFrame& f : window_->frames())
             QVERIFY2(f.regionMetrics.has_value(), qPrintable(f.name));
+    }
+
+    // A light's intensity from the scene panel re-renders the views whose part holds that light (and their references)
+    // and no other; an invalid value is refused with its reason; orbiting the camera re-renders every view; undo
+    // brings both back.
+    void editsTheSceneAndNavigatesTheCamera() {
+        const auto before = window_->frames();
+        const int undoIndex = window_->session().undoStack()->index();
+        auto* intensity = window_->findChild<QDoubleSpinBox*>("scene:lights[lamp].intensity[0]");
+        QVERIFY(intensity);
+        intensity->setValue(intensity->value() * 3.0);
+        QVERIFY(window_->session().modified());
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        const auto after = window_->frames();
+        for (int i : {0, 3}) {  // everything, glow: the lamp is in their part
+            QVERIFY2(after[std::size_t(i)].image != before[std::size_t(i)].image, qPrintable(after[std::size_t(i)].name));
+            QVERIFY(after[std::size_t(i)].reference != before[std::size_t(i)].reference);
+        }
+        for (int i : {1, 2}) {  // light shaft, area light: it is not
+            QVERIFY2(after[std::size_t(i)].image == before[std::size_t(i)].image, qPrintable(after[std::size_t(i)].name));
+            QVERIFY(after[std::size_t(i)].reference == before[std::size_t(i)].reference);
+        }
+        QVERIFY(sum(*after[3].image) > sum(*before[3].image));
+
+        auto* fov = window_->findChild<QDoubleSpinBox*>("scene:camera.fovY");
+        QVERIFY(fov);
+        const double fovBefore = window_->session().project().scene.camera.fovY;
+        fov->setValue(400.0);  // outside (0, 180)
+        QVERIFY2(window_->scenePanel()->lastError().contains("fovY"), qPrintable(window_->scenePanel()->lastError()));
+        QCOMPARE(window_->session().project().scene.camera.fovY, fovBefore);
+
+        const Vec3 position = window_->session().project().scene.camera.position;
+        window_->orbitCamera(0.2, 0.0);
+        window_->orbitCamera(0.1, 0.05);
+        QVERIFY(glm::length(window_->session().project().scene.camera.position - position) > 0.1);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        for (std::size_t i = 0; i < 4; ++i)
+            QVERIFY(window_->frames()[i].image != after[i].image);
+        window_->session().undoStack()->undo();  // both orbit steps are one edit
+        QVERIFY(glm::length(window_->session().project().scene.camera.position - position) < 1e-9);
+        window_->session().undoStack()->undo();
+        QCOMPARE(window_->session().undoStack()->index(), undoIndex);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        QVERIFY(samePixels(*window_->frames()[3].image, *before[3].image));
     }
 
     // The comparison export writes every view, reference and difference, the viewport and the metrics.

@@ -1,0 +1,103 @@
+#include "scene_panel.h"
+
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QScrollArea>
+#include <QVBoxLayout>
+
+#include <array>
+
+namespace tyndall::studio {
+
+namespace {
+
+QDoubleSpinBox* spinBox(double value) {
+    auto* spin = new QDoubleSpinBox;
+    spin->setRange(-1e6, 1e6);
+    spin->setDecimals(4);
+    spin->setSingleStep(0.05);
+    spin->setValue(value);
+    spin->setKeyboardTracking(false);  // one edit per value typed, not per key
+    return spin;
+}
+
+}  // namespace
+
+ScenePanel::ScenePanel(Session& session, QWidget* parent) : QWidget(parent), session_(session) {
+    auto* outer = new QVBoxLayout(this);
+    auto* scroll = new QScrollArea;
+    scroll->setWidgetResizable(true);
+    auto* inner = new QWidget;
+    form_ = new QFormLayout(inner);
+    scroll->setWidget(inner);
+    status_ = new QLabel;
+    status_->setObjectName("sceneStatus");
+    status_->setWordWrap(true);
+    outer->addWidget(scroll, 1);
+    outer->addWidget(status_);
+    connect(&session_, &Session::projectReplaced, this, &ScenePanel::rebuild);
+    connect(&session_, &Session::sceneChanged, this, [this] {
+        if (!updating_) rebuild();
+    });
+}
+
+void ScenePanel::addField(const QString& label, const std::string& path, const nlohmann::json& value) {
+    const QString name = QString::fromStdString(path);
+    auto commit = [this, path, name](const nlohmann::json& v) {
+        QString error;
+        updating_ = true;
+        const bool ok = session_.editScene({path + "=" + v.dump()}, "set " + name, &error);
+        updating_ = false;
+        lastError_ = ok ? QString() : error;
+        status_->setText(ok ? QString() : "<font color=#d55e00>" + error.toHtmlEscaped() + "</font>");
+        if (!ok) rebuild();  // back to the project's value
+    };
+    if (value.is_number()) {
+        auto* spin = spinBox(value.get<double>());
+        spin->setObjectName("scene:" + name);
+        connect(spin, &QDoubleSpinBox::valueChanged, this, [commit](double v) { commit(v); });
+        form_->addRow(label, spin);
+    } else if (value.is_array() && value.size() == 3 && value[0].is_number()) {
+        auto* row = new QWidget;
+        row->setObjectName("scene:" + name);
+        auto* layout = new QHBoxLayout(row);
+        layout->setContentsMargins(0, 0, 0, 0);
+        std::array<QDoubleSpinBox*, 3> spins{};
+        for (int c = 0; c < 3; ++c) {
+            spins[std::size_t(c)] = spinBox(value[std::size_t(c)].get<double>());
+            spins[std::size_t(c)]->setObjectName(QString("scene:%1[%2]").arg(name).arg(c));
+            layout->addWidget(spins[std::size_t(c)]);
+        }
+        for (QDoubleSpinBox* s : spins)
+            connect(s, &QDoubleSpinBox::valueChanged, this, [commit, spins](double) {
+                commit(nlohmann::json::array({spins[0]->value(), spins[1]->value(), spins[2]->value()}));
+            });
+        form_->addRow(label, row);
+    }
+}
+
+void ScenePanel::rebuild() {
+    while (form_->rowCount() > 0)
+        form_->removeRow(0);
+    const nlohmann::json j = projectToJson(session_.project());
+    auto section = [&](const QString& title) { form_->addRow(new QLabel("<b>" + title.toHtmlEscaped() + "</b>")); };
+    section("camera");
+    for (const char* key : {"position", "target", "fovY"})
+        if (j["camera"].contains(key)) addField(key, std::string("camera.") + key, j["camera"][key]);
+    for (const char* group : {"media", "lights"}) {
+        if (!j.contains(group)) continue;
+        for (const auto& element : j[group]) {
+            const std::string name = element.value("name", "");
+            section(QString::fromStdString(std::string(group) + ": " + name));
+            const std::string prefix = std::string(group) + "[" + name + "].";
+            for (const char* key : {"sigma_s", "sigma_a", "position", "direction", "intensity", "irradiance", "radiance"})
+                if (element.contains(key)) addField(key, prefix + key, element[key]);
+            if (element.contains("phase") && element["phase"].contains("g"))
+                addField("phase g", prefix + "phase.g", element["phase"]["g"]);
+        }
+    }
+}
+
+}  // namespace tyndall::studio
