@@ -14,6 +14,7 @@
 
 int main(int argc, char** argv) {
     QApplication app(argc, argv);
+    QApplication::setOrganizationName("Tyndall");
     QApplication::setApplicationName("Tyndall Studio");
     QString project = TYNDALL_DEFAULT_PROJECT;
     std::vector<std::string> overrides;

@@ -8,6 +8,10 @@
 #include <QActionGroup>
 #include <QApplication>
 #include <QCloseEvent>
+#include <QCryptographicHash>
+#include <QDateTime>
+#include <QSettings>
+#include <QStandardPaths>
 #include <QDir>
 #include <QDockWidget>
 #include <QFileDialog>
@@ -170,7 +174,9 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         updateTitle();
     });
     connect(&session_, &Session::viewChanged, this, [this](int view) {
-        frames_[std::size_t(view)].exposure = session_.project().views[std::size_t(view)].exposure;
+        const View& v = session_.project().views[std::size_t(view)];
+        frames_[std::size_t(view)].exposure = v.exposure;
+        viewKeys_[std::size_t(view)] = v.parameters.dump() + "/" + std::to_string(v.exposure);
         updateMetrics(view);
         dirtyViews_.insert(view);
         debounce_.start();
@@ -178,14 +184,23 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     });
     connect(&session_, &Session::modifiedChanged, this, [this](bool) { updateTitle(); });
     connect(&session_, &Session::sceneChanged, this, [this] {
-        // Only views whose part of the scene changed render again, with their references.
+        // Only views whose part of the scene changed render again, with their references; views whose parameters
+        // changed (a whole project replaced: recovery, or its undo) render again alone.
         for (int i = 0; i < int(frames_.size()); ++i) {
-            const std::string key = partKeyOf(session_.project(), session_.project().views[std::size_t(i)]);
+            const View& view = session_.project().views[std::size_t(i)];
+            const std::string key = partKeyOf(session_.project(), view);
+            const std::string viewKey = view.parameters.dump() + "/" + std::to_string(view.exposure);
+            if (viewKey != viewKeys_[std::size_t(i)]) {
+                viewKeys_[std::size_t(i)] = viewKey;
+                frames_[std::size_t(i)].exposure = view.exposure;
+                dirtyViews_.insert(i);
+            }
             if (key == partKeys_[std::size_t(i)]) continue;
             partKeys_[std::size_t(i)] = key;
             dirtyParts_.insert(i);
         }
         debounce_.start();
+        recompose();
     });
     connect(renderer_, &RenderService::output, this, &MainWindow::onOutput);
 
@@ -243,6 +258,14 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         state_.split = 0.5;
         recompose();
     });
+    autosave_.setInterval(20000);
+    connect(&autosave_, &QTimer::timeout, this, [this] { autosaveNow(); });
+    autosave_.start();
+    connect(&session_, &Session::modifiedChanged, this, [this](bool modified) {
+        // Saved, or undone back to the file: nothing to recover. (Opening a project is neither.)
+        if (!modified && !opening_) QFile::remove(autosavePath(session_.path()));
+    });
+    refreshRecentMenu();
     resize(1280, 800);
     updateTitle();
 }
@@ -273,6 +296,7 @@ void MainWindow::buildMenus() {
         updateTitle();
     });
     saveAs->setShortcut(QKeySequence::SaveAs);
+    recentMenu_ = file->addMenu("Open &recent");
     file->addSeparator();
     file->addAction("&Export comparison...", this, [this] {
         const QString folder = QFileDialog::getExistingDirectory(this, "Export the comparison into");
@@ -321,14 +345,82 @@ void MainWindow::buildMenus() {
 bool MainWindow::openProject(const QString& path, bool dialog) {
     QString error;
     renderer_->cancelAll();
-    if (!session_.open(path, &error, overrides_)) {
+    opening_ = true;
+    const bool opened = session_.open(path, &error, overrides_);
+    opening_ = false;
+    if (!opened) {
         if (dialog) QMessageBox::critical(this, "Cannot open the project", error);
         statusBar()->showMessage("Not opened: " + error, 10000);
         // The current project stays; its renders start again where they were cancelled.
         if (!session_.project().views.empty()) renderAll();
         return false;
     }
+    addRecent(path);
+    // An autosave newer than the file: the studio stopped with unsaved changes.
+    const QFileInfo autosave(autosavePath(path)), file(path);
+    if (autosave.exists() && autosave.lastModified() >= file.lastModified() && recovery_ != Recovery::Never) {
+        bool recover = recovery_ == Recovery::Always;
+        if (recovery_ == Recovery::Ask)
+            recover = QMessageBox::question(this, "Recover unsaved changes",
+                                            "Tyndall Studio stopped with unsaved changes to " + file.fileName() +
+                                                " (autosaved " + autosave.lastModified().toString() +
+                                                "). Recover them?") == QMessageBox::Yes;
+        if (recover) {
+            QFile in(autosave.filePath());
+            try {
+                if (!in.open(QIODevice::ReadOnly)) throw std::runtime_error("cannot read the autosave");
+                const nlohmann::json j = nlohmann::json::parse(in.readAll().toStdString());
+                // One undoable edit on top of the file's version: the title shows it unsaved, undo goes back.
+                session_.editProjectJson(j, "recover unsaved changes");
+                statusBar()->showMessage("Recovered the unsaved changes of " + file.fileName(), 10000);
+            } catch (const std::exception& e) {
+                QMessageBox::warning(this, "Cannot recover", QString::fromStdString(e.what()));
+            }
+        } else {
+            QFile::remove(autosave.filePath());
+        }
+    }
     return true;
+}
+
+QString MainWindow::autosavePath(const QString& projectPath) {
+    const QString dir = QStandardPaths::writableLocation(QStandardPaths::AppDataLocation) + "/autosave";
+    QDir().mkpath(dir);
+    const QByteArray hash =
+        QCryptographicHash::hash(QFileInfo(projectPath).absoluteFilePath().toUtf8(), QCryptographicHash::Sha1).toHex();
+    return dir + "/" + QFileInfo(projectPath).completeBaseName() + "-" + QString::fromLatin1(hash.left(12)) + ".json";
+}
+
+bool MainWindow::autosaveNow() {
+    if (!session_.modified() || session_.path().isEmpty()) return false;
+    QSaveFile file(autosavePath(session_.path()));
+    const std::string text = projectToJson(session_.project()).dump(2) + "\n";
+    return file.open(QIODevice::WriteOnly) && file.write(text.data(), qint64(text.size())) >= 0 && file.commit();
+}
+
+QStringList MainWindow::recentProjects() const {
+    return QSettings().value("recentProjects").toStringList();
+}
+
+void MainWindow::addRecent(const QString& path) {
+    QStringList recent = recentProjects();
+    const QString absolute = QFileInfo(path).absoluteFilePath();
+    recent.removeAll(absolute);
+    recent.prepend(absolute);
+    while (recent.size() > 8)
+        recent.removeLast();
+    QSettings().setValue("recentProjects", recent);
+    refreshRecentMenu();
+}
+
+void MainWindow::refreshRecentMenu() {
+    if (!recentMenu_) return;
+    recentMenu_->clear();
+    for (const QString& path : recentProjects())
+        recentMenu_->addAction(path, this, [this, path] {
+            if (confirmDiscard()) openProject(path);
+        });
+    recentMenu_->setEnabled(!recentMenu_->isEmpty());
 }
 
 void MainWindow::rebuildViews() {
@@ -339,8 +431,11 @@ void MainWindow::rebuildViews() {
     pending_.assign(project.views.size(), false);
     referencePending_.assign(project.views.size(), false);
     partKeys_.clear();
-    for (const View& v : project.views)
+    viewKeys_.clear();
+    for (const View& v : project.views) {
         partKeys_.push_back(partKeyOf(project, v));
+        viewKeys_.push_back(v.parameters.dump() + "/" + std::to_string(v.exposure));
+    }
     progress_.assign(project.views.size(), {});
     snapshots_.clear();
     comparedSnapshot_ = -1;
@@ -576,6 +671,7 @@ void MainWindow::closeEvent(QCloseEvent* event) {
         return;
     }
     renderer_->cancelAll();
+    QFile::remove(autosavePath(session_.path()));  // saved or discarded on purpose: nothing to recover
     event->accept();
 }
 

@@ -30,8 +30,17 @@ public:
     MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrides = {});
     ~MainWindow() override;
 
-    // Opens a project; on failure keeps the current one and, with `dialog`, says why in a message box.
+    // Opens a project; on failure keeps the current one and, with `dialog`, says why in a message box. When an autosave
+    // of the project is newer than its file (the studio stopped with unsaved changes), offers to recover it.
     bool openProject(const QString& path, bool dialog = true);
+
+    // Crash recovery: every 20 s while there are unsaved changes, the project goes to autosavePath(); a save or a
+    // clean close removes it. What openProject does with a newer autosave: ask, always recover, or never.
+    enum class Recovery { Ask, Always, Never };
+    void setRecovery(Recovery recovery) { recovery_ = recovery; }
+    static QString autosavePath(const QString& projectPath);
+    bool autosaveNow();
+    QStringList recentProjects() const;
     // Writes every view, its reference and its difference (EXR and PNG), the viewport (PNG) and the metrics (JSON and
     // CSV) into `folder`. Returns false with the reason.
     bool exportComparison(const QString& folder, QString* error);
@@ -116,6 +125,7 @@ private:
     std::set<int> dirtyViews_;    // edited views waiting for the debounce
     std::set<int> dirtyParts_;    // views whose part of the scene changed: the view and its reference re-render
     std::vector<std::string> partKeys_;
+    std::vector<std::string> viewKeys_;  // each view's parameters and exposure, to see what a project replacement changed
     ScenePanel* scene_ = nullptr;
     QPointF lastMouse_;
     QTimer debounce_;
@@ -139,6 +149,12 @@ private:
     QPoint regionStart_;
     QTimer probeTimer_;
     QPointF probePosition_;
+    QTimer autosave_;
+    Recovery recovery_ = Recovery::Ask;
+    bool opening_ = false;
+    QMenu* recentMenu_ = nullptr;
+    void addRecent(const QString& path);
+    void refreshRecentMenu();
 };
 
 }  // namespace tyndall::studio

@@ -43,6 +43,9 @@ ParameterPanel::ParameterPanel(Session& session, QWidget* parent) : QWidget(pare
         if (view == view_ && !updating_) rebuild();
     });
     connect(&session_, &Session::projectReplaced, this, [this] { showView(session_.project().views.empty() ? -1 : 0); });
+    connect(&session_, &Session::sceneChanged, this, [this] {
+        if (!updating_) rebuild();
+    });
 }
 
 void ParameterPanel::showView(int view) {

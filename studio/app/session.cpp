@@ -134,6 +134,11 @@ bool Session::editScene(const std::vector<std::string>& overrides, const QString
     }
 }
 
+void Session::editProjectJson(const nlohmann::json& json, const QString& text) {
+    projectFromJson(json, path_.toStdString());  // throws before anything changes
+    undo_.push(new EditSceneCommand(*this, projectToJson(project_), json, text, -1));
+}
+
 void Session::applyProjectJson(const nlohmann::json& json) {
     project_ = projectFromJson(json, path_.toStdString());
     emit sceneChanged();

@@ -33,6 +33,8 @@ public:
     // --set paths). The result is validated like a loaded file: on failure nothing changes and `error` says why.
     // Edits with the same non-negative mergeId in a row are one undo step (a drag).
     bool editScene(const std::vector<std::string>& overrides, const QString& text, QString* error, int mergeId = -1);
+    // An undoable replacement of the whole project by `json` (crash recovery); it must be a valid project.
+    void editProjectJson(const nlohmann::json& json, const QString& text);
     void applyProjectJson(const nlohmann::json& json);
     // What the commands call; not undoable by themselves.
     void applyParameter(int view, const std::string& name, const nlohmann::json& value);

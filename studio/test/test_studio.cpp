@@ -10,6 +10,8 @@
 #include <qcustomplot.h>
 #include <QDir>
 #include <QFile>
+#include <QFileInfo>
+#include <QStandardPaths>
 #include <QMessageBox>
 #include <QTest>
 #include <QTimer>
@@ -338,6 +340,35 @@ private slots:
         QVERIFY(window_->frames()[0].image);
     }
 
+    // Unsaved changes are autosaved; a studio that opens the project afterwards (after a crash) recovers them as one
+    // undoable edit on top of the file, and the project is listed under the recent ones.
+    void recoversUnsavedChangesAfterACrash() {
+        const QString dir = QString(TYNDALL_TEST_TMP) + "/recover";
+        QDir(dir).removeRecursively();
+        QDir().mkpath(dir);
+        const QString path = dir + "/room.json";
+        QVERIFY(QFile::copy(kDefaultProject, path));
+        QFile::remove(MainWindow::autosavePath(path));
+        window_->setRecovery(MainWindow::Recovery::Never);
+        QVERIFY(window_->openProject(path, false));
+        QCOMPARE(window_->recentProjects().value(0), QFileInfo(path).absoluteFilePath());
+        window_->session().setParameter(1, "raySamples", std::int64_t(3));
+        QVERIFY(window_->autosaveNow());
+        QVERIFY(QFile::exists(MainWindow::autosavePath(path)));
+
+        // The first studio "crashes" (it is left as it is); a second one opens the same project.
+        MainWindow second(vulkan_, kSmall);
+        second.setRecovery(MainWindow::Recovery::Always);
+        QVERIFY(second.openProject(path, false));
+        QVERIFY(second.session().modified());
+        QVERIFY(second.session().project().views[1].parameters["raySamples"] == nlohmann::json(3));
+        second.session().undoStack()->undo();
+        QVERIFY(!second.session().project().views[1].parameters.contains("raySamples"));
+        QVERIFY(!second.session().modified());
+        QVERIFY(!QFile::exists(MainWindow::autosavePath(path)));  // back at the file: nothing left to recover
+        QTRY_VERIFY_WITH_TIMEOUT(second.settled(), 120000);
+    }
+
     void cleanupTestCase() { window_.reset(); }
 
 private:
@@ -347,6 +378,9 @@ private:
 
 int main(int argc, char** argv) {
     QApplication app(argc, argv);
+    QStandardPaths::setTestModeEnabled(true);  // settings and autosaves in a test location, not the user's
+    QApplication::setOrganizationName("Tyndall");
+    QApplication::setApplicationName("Tyndall Studio tests");
     QVulkanInstance vulkan;
     vulkan.setApiVersion(QVersionNumber(1, 2));
     if (!vulkan.create()) {
