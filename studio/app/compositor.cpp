@@ -67,6 +67,38 @@ std::vector<QRect> cells(const std::vector<ViewFrame>& frames, const CompositorS
     return out;
 }
 
+// Displayed images, cached: composing runs on the GUI thread at every render output and every key press, and
+// tonemapping a 512 x 512 image costs ~10 ms. Images are immutable once shared, so an entry stays valid while its images
+// are alive (weak pointers tell).
+struct DisplayEntry {
+    std::weak_ptr<const Image> image, against;
+    const Image* imageKey = nullptr;
+    const Image* againstKey = nullptr;
+    double exposure = 0.0, scale = 0.0;
+    int mode = 0;
+    QImage display;
+};
+
+template <typename Make>
+QImage cachedDisplay(const std::shared_ptr<const Image>& image, const std::shared_ptr<const Image>& against,
+                     double exposure, int mode, double scale, Make&& make) {
+    static std::vector<DisplayEntry> cache;  // GUI thread only
+    for (auto it = cache.begin(); it != cache.end();) {
+        if (it->image.expired() || (it->againstKey && it->against.expired())) {
+            it = cache.erase(it);
+            continue;
+        }
+        if (it->imageKey == image.get() && it->againstKey == against.get() && it->exposure == exposure &&
+            it->mode == mode && it->scale == scale)
+            return it->display;
+        ++it;
+    }
+    DisplayEntry e{image, against, image.get(), against.get(), exposure, scale, mode, make()};
+    cache.push_back(e);
+    if (cache.size() > 48) cache.erase(cache.begin());
+    return e.display;
+}
+
 QImage differenceDisplay(const Image& image, const Image& reference, DiffMode mode, double scale) {
     const DifferenceKind kind = mode == DiffMode::Signed     ? DifferenceKind::Signed
                                 : mode == DiffMode::Absolute ? DifferenceKind::Absolute
@@ -83,7 +115,8 @@ QString labelOf(const ViewFrame& f, bool reference) {
     QString line = f.name + "  -  " + (reference ? (f.snapshot ? "snapshot " + f.snapshotName : QString("reference"))
                                                  : f.technique);
     if (reference) {
-        if (f.reference && !f.snapshot) line += QString("  %1 spp").arg(f.referenceSpp);
+        if (f.reference && !f.snapshot)
+            line += QString("  %1 spp%2").arg(f.referenceSpp).arg(f.referenceCached ? " (cached)" : "");
     } else if (f.image) {
         line += QString("  %1 ms").arg(f.seconds * 1e3, 0, 'f', 0);
         if (f.spp > 1) line += QString("  %1 spp").arg(f.spp);
@@ -148,12 +181,24 @@ const std::shared_ptr<const Image>& comparand(const ViewFrame& frame) {
 }
 
 QImage toDisplay(const Image& image, double exposure) {
+    // tonemap() is 2^exposure then the sRGB curve, clamped: a table of the curve over [0, 1] at 4096 steps gives the
+    // same 8-bit values (the curve's slope is at most 12.92, so a step moves it by at most 0.8 of an 8-bit level) without a
+    // pow per channel.
+    static const std::vector<uchar> table = [] {
+        std::vector<uchar> t(4097);
+        for (int i = 0; i <= 4096; ++i)
+            t[std::size_t(i)] = uchar(std::lround(std::clamp(srgbEncode(float(i) / 4096.0f), 0.0f, 1.0f) * 255.0f));
+        return t;
+    }();
+    const float scale = float(std::exp2(exposure)) * 4096.0f;
     QImage out(image.width(), image.height(), QImage::Format_RGBA8888);
     for (int y = 0; y < image.height(); ++y) {
         uchar* row = out.scanLine(y);
         for (int x = 0; x < image.width(); ++x) {
-            for (int c = 0; c < 3; ++c)
-                row[4 * x + c] = uchar(std::lround(std::clamp(tonemap(image.at(x, y, c), exposure), 0.0f, 1.0f) * 255.0f));
+            for (int c = 0; c < 3; ++c) {
+                const float v = image.at(x, y, c) * scale;
+                row[4 * x + c] = table[std::size_t(v > 0.0f ? std::min(v + 0.5f, 4096.0f) : 0.0f)];
+            }
             row[4 * x + 3] = 255;
         }
     }
@@ -197,9 +242,10 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
         const double exposure = f.exposure + state.exposureOffset;
         if (state.diff != DiffMode::Off && !reference) {
             if (!against || against->width() != img->width() || against->height() != img->height()) return {};
-            return differenceDisplay(*img, *against, state.diff, scale);
+            return cachedDisplay(img, against, 0.0, int(state.diff), scale,
+                                 [&] { return differenceDisplay(*img, *against, state.diff, scale); });
         }
-        return toDisplay(*img, exposure);
+        return cachedDisplay(img, nullptr, exposure, 0, 0.0, [&] { return toDisplay(*img, exposure); });
     };
     for (std::size_t i = 0; i < frames.size(); ++i) {
         const QRect r = rects[i];

@@ -26,6 +26,7 @@ struct ViewFrame {
     std::shared_ptr<const Image> image;       // the technique's latest image (null: not rendered yet)
     std::shared_ptr<const Image> reference;   // the reference of the view's part (null: not rendered yet)
     int spp = 0, referenceSpp = 0;
+    bool referenceCached = false;             // the reference came from the disk cache
     double seconds = 0.0;                     // the technique's frame time
     double exposure = 0.0;                    // the view's, EV
     bool rendering = false;                   // a newer render is on its way
@@ -50,7 +51,7 @@ struct CompositorState {
 // The image a view is compared against: its snapshot when one is chosen, else its reference.
 const std::shared_ptr<const Image>& comparand(const ViewFrame& frame);
 
-// Linear RGB to 8-bit sRGB after 2^exposure, like the PNGs the CLI writes.
+// Linear RGB to 8-bit sRGB after 2^exposure, like the PNGs the CLI writes (within one 8-bit level).
 QImage toDisplay(const Image& image, double exposure);
 
 // The difference scale shared by every view: 10 % of the mean luminance of the references (1e-3 without any).

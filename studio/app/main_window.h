@@ -14,6 +14,7 @@
 #include <QMainWindow>
 #include <QTimer>
 
+#include <map>
 #include <set>
 #include <vector>
 
@@ -41,6 +42,11 @@ public:
     static QString autosavePath(const QString& projectPath);
     bool autosaveNow();
     QStringList recentProjects() const;
+
+    // Finished references are cached on disk by a hash of what they render (their part of the scene, the reference
+    // settings, the project's folder, the version), so that reopening a project does not start from zero.
+    static QString referenceCacheFolder();
+    QString referenceCachePath(int view) const;
     // Writes every view, its reference and its difference (EXR and PNG), the viewport (PNG) and the metrics (JSON and
     // CSV) into `folder`. Returns false with the reason.
     bool exportComparison(const QString& folder, QString* error);
@@ -101,6 +107,7 @@ private:
     void rebuildViews();
     void renderView(int view, bool reference);
     void renderAll();
+    void flushDirty();
     void onOutput(const RenderOutput& out);
     void onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed);
     void updateTitle();
@@ -122,8 +129,8 @@ private:
     std::vector<quint64> generation_, referenceGeneration_;
     std::vector<bool> pending_;           // a technique render of the view is queued or running
     std::vector<bool> referencePending_;  // so is a reference render
-    std::set<int> dirtyViews_;    // edited views waiting for the debounce
-    std::set<int> dirtyParts_;    // views whose part of the scene changed: the view and its reference re-render
+    std::set<int> dirtyViews_;    // edited views waiting for their render in flight to finish
+    std::set<int> dirtyParts_;    // views whose part of the scene changed: their references restart after the debounce
     std::vector<std::string> partKeys_;
     std::vector<std::string> viewKeys_;  // each view's parameters and exposure, to see what a project replacement changed
     ScenePanel* scene_ = nullptr;
@@ -144,6 +151,8 @@ private:
         int spp = 0;
         double seconds = 0.0;
         std::shared_ptr<const Image> image;
+        double relMSE = -1.0;           // against `against`, computed once
+        const Image* against = nullptr;
     };
     std::vector<std::vector<Progress>> progress_;
     QPoint regionStart_;
@@ -152,8 +161,10 @@ private:
     QTimer autosave_;
     Recovery recovery_ = Recovery::Ask;
     bool opening_ = false;
+    int metricsPending_ = 0;
     QMenu* recentMenu_ = nullptr;
     void addRecent(const QString& path);
+    std::map<quint64, QString> cachePathOf_;  // reference renders in flight: where their result is cached
     void refreshRecentMenu();
 };
 

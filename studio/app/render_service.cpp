@@ -52,6 +52,16 @@ void RenderService::cancelAll() {
     }
 }
 
+void RenderService::cancelReference(int view) {
+    std::lock_guard lock(mutex_);
+    for (auto it = queue_.begin(); it != queue_.end();)
+        it = (it->view == view && it->reference) ? queue_.erase(it) : it + 1;
+    if (running_ && runningReference_ && runningView_ == view) {
+        cancel_ = true;
+        requeueRunning_ = false;
+    }
+}
+
 bool RenderService::idle() const {
     std::lock_guard lock(mutex_);
     return !running_ && queue_.empty();
@@ -84,7 +94,7 @@ void RenderService::run() {
         out.reference = task->reference;
         out.generation = task->generation;
         const auto started = Clock::now();
-        auto lastPost = started;
+        auto lastPost = started - std::chrono::hours(1);  // the first progressive image goes out at once
         RenderCallbacks callbacks;
         callbacks.cancel = &cancel_;
         callbacks.intermediate = [&](const Image& image, int spp) {
@@ -94,7 +104,7 @@ void RenderService::run() {
             RenderOutput partial = out;
             partial.image = std::make_shared<Image>(image);
             partial.spp = spp;
-            partial.seconds = std::chrono::duration<double>(lastPost - started).count();
+            partial.seconds = std::chrono::duration<double>(Clock::now() - started).count();
             post(std::move(partial));
         };
         bool cancelled = false;

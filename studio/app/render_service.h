@@ -34,6 +34,7 @@ struct RenderOutput {
     int spp = 0;
     double seconds = 0.0;
     bool final = false;
+    bool cached = false;  // a reference read from the disk cache, not rendered
     QString error;
 };
 
@@ -45,6 +46,8 @@ public:
 
     void submit(RenderTask task);
     void cancelAll();
+    // Drops a queued reference of `view` and cancels it if it is running (a cached one replaces it).
+    void cancelReference(int view);
     bool idle() const;
 
 signals:
