@@ -135,14 +135,16 @@ QString metricsLine(const ViewFrame& f) {
 }
 
 // The user's region, from image pixels into the view's rectangle on screen.
-void drawRegion(QPainter& p, QRect imageRect, QSize imageSize, QRect region) {
-    if (region.isEmpty() || imageSize.isEmpty()) return;
-    const double sx = double(imageRect.width()) / imageSize.width(), sy = double(imageRect.height()) / imageSize.height();
-    const QRect r(imageRect.x() + int(region.x() * sx), imageRect.y() + int(region.y() * sy),
+void drawRegion(QPainter& p, QRect imageRect, QRectF visible, QRect region) {
+    if (region.isEmpty() || visible.isEmpty()) return;
+    const double sx = imageRect.width() / visible.width(), sy = imageRect.height() / visible.height();
+    const QRect r(imageRect.x() + int((region.x() - visible.x()) * sx), imageRect.y() + int((region.y() - visible.y()) * sy),
                   std::max(1, int(region.width() * sx)), std::max(1, int(region.height() * sy)));
+    p.setClipRect(imageRect);
     p.setPen(QPen(QColor(255, 220, 0), 1, Qt::DashLine));
     p.setBrush(Qt::NoBrush);
     p.drawRect(r);
+    p.setClipping(false);
 }
 
 void drawLabel(QPainter& p, QRect imageRect, const QString& top, const QString& bottom) {
@@ -175,6 +177,14 @@ void drawColourBar(QPainter& p, QSize size, DiffMode mode, double scale) {
 }
 
 }  // namespace
+
+QRectF visiblePart(QSize size, const CompositorState& state) {
+    const double zoom = std::max(1.0, state.zoom);
+    const double w = size.width() / zoom, h = size.height() / zoom;
+    const double x = std::clamp(state.centre.x() * size.width() - w / 2, 0.0, size.width() - w);
+    const double y = std::clamp(state.centre.y() * size.height() - h / 2, 0.0, size.height() - h);
+    return QRectF(x, y, w, h);
+}
 
 const std::shared_ptr<const Image>& comparand(const ViewFrame& frame) {
     return frame.snapshot ? frame.snapshot : frame.reference;
@@ -235,7 +245,7 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
     }
     const std::vector<QRect> rects = cells(frames, state, size);
     const double scale = sharedDifferenceScale(frames);
-    auto display = [&](const ViewFrame& f, bool reference) -> QImage {
+    auto displayFull = [&](const ViewFrame& f, bool reference) -> QImage {
         const std::shared_ptr<const Image>& against = comparand(f);
         const std::shared_ptr<const Image>& img = reference ? against : f.image;
         if (!img) return {};
@@ -246,6 +256,12 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
                                  [&] { return differenceDisplay(*img, *against, state.diff, scale); });
         }
         return cachedDisplay(img, nullptr, exposure, 0, 0.0, [&] { return toDisplay(*img, exposure); });
+    };
+    // Every view shows the same part of its image (synchronized zoom and pan).
+    auto display = [&](const ViewFrame& f, bool reference) -> QImage {
+        const QImage full = displayFull(f, reference);
+        if (full.isNull() || state.zoom <= 1.0) return full;
+        return full.copy(visiblePart(full.size(), state).toAlignedRect());
     };
     for (std::size_t i = 0; i < frames.size(); ++i) {
         const QRect r = rects[i];
@@ -269,7 +285,7 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             const QString other = f.snapshot ? "snapshot " + f.snapshotName : QString("reference");
             const QString sides = state.swapped ? other + " | " + f.technique : f.technique + " | " + other;
             drawLabel(p, r, f.name + "  -  " + sides, metricsLine(f));
-            if (f.image) drawRegion(p, r, QSize(f.image->width(), f.image->height()), state.region);
+            if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);
             continue;
         }
         const bool reference = state.layout == Layout::Single && state.showReference;
@@ -282,7 +298,7 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             p.drawImage(r, img);
         }
         drawLabel(p, r, labelOf(f, reference), reference ? QString() : metricsLine(f));
-        if (f.image) drawRegion(p, r, QSize(f.image->width(), f.image->height()), state.region);
+        if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);
     }
     if (state.diff != DiffMode::Off) drawColourBar(p, size, state.diff, scale);
     return frame;

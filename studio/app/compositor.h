@@ -46,7 +46,12 @@ struct CompositorState {
     DiffMode diff = DiffMode::Off;
     double exposureOffset = 0.0; // EV added to every view's exposure (E / Shift+E)
     QRect region;                // image pixels; empty for none: drawn on every view, metrics over it
+    double zoom = 1.0;           // >= 1, the same for every view (synchronized)
+    QPointF centre{0.5, 0.5};    // what the views centre on, in [0, 1]^2 of the image
 };
+
+// The part of an image of `size` that the views show under the zoom and centre, in image pixels.
+QRectF visiblePart(QSize size, const CompositorState& state);
 
 // The image a view is compared against: its snapshot when one is chosen, else its reference.
 const std::shared_ptr<const Image>& comparand(const ViewFrame& frame);

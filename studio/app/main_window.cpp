@@ -232,7 +232,14 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         state_.split = std::clamp((position.x() - r.x()) / r.width(), 0.0, 1.0);
         recompose();
     };
-    connect(viewport_, &Viewport::wheelTurned, this, [this](double steps) { dollyCamera(std::pow(0.9, steps)); });
+    connect(viewport_, &Viewport::wheelTurned, this, [this](double steps) {
+        if (QGuiApplication::keyboardModifiers() & Qt::ControlModifier) {
+            state_.zoom = std::clamp(state_.zoom * std::pow(1.25, steps), 1.0, 64.0);  // every view zooms together
+            recompose();
+            return;
+        }
+        dollyCamera(std::pow(0.9, steps));
+    });
     connect(viewport_, &Viewport::mousePressed, this, [this, dragDivider](QPointF position, Qt::MouseButtons buttons) {
         lastMouse_ = position;
         if (QGuiApplication::keyboardModifiers() & Qt::AltModifier) return;  // camera navigation
@@ -246,6 +253,18 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         lastMouse_ = position;
         if ((QGuiApplication::keyboardModifiers() & Qt::AltModifier) && (buttons & Qt::LeftButton)) {
             orbitCamera(-delta.x() * 0.01, -delta.y() * 0.01);
+            return;
+        }
+        if ((buttons & Qt::MiddleButton) && !frames_.empty()) {  // pan every view together
+            const std::vector<QRect> rects = viewRects(frames_, state_, viewport_->pixelSize());
+            QRect r;
+            for (const QRect& c : rects)
+                if (!c.isEmpty()) r = c;
+            if (r.width() > 0) {
+                state_.centre -= QPointF(delta.x() / r.width(), delta.y() / r.height()) / state_.zoom;
+                state_.centre = QPointF(std::clamp(state_.centre.x(), 0.0, 1.0), std::clamp(state_.centre.y(), 0.0, 1.0));
+                recompose();
+            }
             return;
         }
         dragDivider(position, buttons);
@@ -577,11 +596,16 @@ void MainWindow::onOutput(const RenderOutput& out) {
         // A finished reference goes to the disk cache (atomically), so that reopening the project starts from it.
         const auto path = cachePathOf_.find(out.generation);
         if (out.final && !out.cached && path != cachePathOf_.end() && out.image) {
+            // Written in the thread pool (an EXR of 512 x 512 takes ~0.2 s), atomically, so a reader never sees half.
             QDir().mkpath(referenceCacheFolder());
-            try {
-                writeImage(*out.image, path->second.toStdString());
-            } catch (const std::exception&) {
-            }
+            const std::shared_ptr<const Image> image = out.image;
+            const std::string file = path->second.toStdString();
+            QThreadPool::globalInstance()->start([image, file] {
+                try {
+                    writeImage(*image, file);
+                } catch (const std::exception&) {
+                }
+            });
         }
         if (out.final) cachePathOf_.erase(out.generation);
     } else {
@@ -741,6 +765,10 @@ void MainWindow::onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed) {
         setLayoutMode(Layout::Split);
     } else if (key == Qt::Key_D) {
         state_.diff = DiffMode((int(state_.diff) + 1) % 4);
+        recompose();
+    } else if (key == Qt::Key_Z) {
+        state_.zoom = 1.0;
+        state_.centre = QPointF(0.5, 0.5);
         recompose();
     } else if (key == Qt::Key_F) {
         frameScene();
@@ -913,8 +941,11 @@ bool MainWindow::viewAt(QPointF position, int& view, QPoint& pixel) const {
         const std::shared_ptr<const Image>& img = frames_[i].image ? frames_[i].image : frames_[i].reference;
         if (!img) return false;
         view = int(i);
-        pixel = QPoint(std::clamp(int((position.x() - r.x()) / r.width() * img->width()), 0, img->width() - 1),
-                       std::clamp(int((position.y() - r.y()) / r.height() * img->height()), 0, img->height() - 1));
+        const QRectF visible = visiblePart(QSize(img->width(), img->height()), state_);
+        pixel = QPoint(std::clamp(int(visible.x() + (position.x() - r.x()) / r.width() * visible.width()), 0,
+                                  img->width() - 1),
+                       std::clamp(int(visible.y() + (position.y() - r.y()) / r.height() * visible.height()), 0,
+                                  img->height() - 1));
         return true;
     }
     return false;

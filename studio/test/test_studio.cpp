@@ -14,6 +14,7 @@
 #include <QStandardPaths>
 #include <QMessageBox>
 #include <QTest>
+#include <QThreadPool>
 #include <QTimer>
 #include <QVulkanInstance>
 
@@ -112,6 +113,7 @@ private slots:
     void cachesFinishedReferencesOnDisk() {
         for (const ViewFrame& f : window_->frames())
             QVERIFY(!f.referenceCached);  // the first studio rendered them (the cache was empty)
+        QThreadPool::globalInstance()->waitForDone();  // the cache files are written in the thread pool
         MainWindow second(vulkan_, kSmall);
         second.setRecovery(MainWindow::Recovery::Never);
         QVERIFY(second.openProject(kDefaultProject, false));
@@ -139,7 +141,23 @@ private slots:
         QTest::keyRelease(window_->viewport(), Qt::Key_Shift);
         QVERIFY(!window_->compositorState().showReference);
         QVERIFY(reference != single);
+
+        // Zoom shows the same part of every view: the frame changes, and the cursor maps to pixels of that part.
         window_->setLayoutMode(Layout::Grid);
+        const QRect r = viewRects(window_->frames(), window_->compositorState(), window_->viewport()->pixelSize())[0];
+        int view = -1;
+        QPoint pixel;
+        QVERIFY(window_->viewAt(QPointF(r.x() + 1, r.y() + 1), view, pixel));
+        QCOMPARE(pixel, QPoint(0, 0));
+        window_->compositorState().zoom = 4.0;
+        window_->recompose();
+        QVERIFY(window_->composedFrame() != grid);
+        QVERIFY(window_->viewAt(QPointF(r.x() + 1, r.y() + 1), view, pixel));
+        QCOMPARE(view, 0);
+        QCOMPARE(pixel, QPoint(36, 27));  // the centre quarter of 96 x 72 starts at (36, 27)
+        QTest::keyClick(window_->viewport(), Qt::Key_Z);
+        QCOMPARE(window_->compositorState().zoom, 1.0);
+        QCOMPARE(window_->composedFrame(), grid);
     }
 
     // Turning off the light shaft's shadows re-renders that view only; undo brings the same image back.
