@@ -111,11 +111,14 @@ QString number(double v) {
     return QString::number(v, 'g', 3);
 }
 
+QString comparandName(const ViewFrame& f) {
+    return f.snapshot ? "snapshot " + f.snapshotName : f.alternate ? "view " + f.alternateName : QString("reference");
+}
+
 QString labelOf(const ViewFrame& f, bool reference) {
-    QString line = f.name + "  -  " + (reference ? (f.snapshot ? "snapshot " + f.snapshotName : QString("reference"))
-                                                 : f.technique);
+    QString line = f.name + "  -  " + (reference ? comparandName(f) : f.technique);
     if (reference) {
-        if (f.reference && !f.snapshot)
+        if (f.reference && !f.snapshot && !f.alternate)
             line += QString("  %1 spp%2").arg(f.referenceSpp).arg(f.referenceCached ? " (cached)" : "");
     } else if (f.image) {
         line += QString("  %1 ms").arg(f.seconds * 1e3, 0, 'f', 0);
@@ -187,7 +190,7 @@ QRectF visiblePart(QSize size, const CompositorState& state) {
 }
 
 const std::shared_ptr<const Image>& comparand(const ViewFrame& frame) {
-    return frame.snapshot ? frame.snapshot : frame.reference;
+    return frame.snapshot ? frame.snapshot : frame.alternate ? frame.alternate : frame.reference;
 }
 
 QImage toDisplay(const Image& image, double exposure) {
@@ -282,7 +285,7 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             }
             p.setPen(QPen(QColor(255, 255, 255), 1));
             p.drawLine(divider, r.y(), divider, r.bottom());
-            const QString other = f.snapshot ? "snapshot " + f.snapshotName : QString("reference");
+            const QString other = comparandName(f);
             const QString sides = state.swapped ? other + " | " + f.technique : f.technique + " | " + other;
             drawLabel(p, r, f.name + "  -  " + sides, metricsLine(f));
             if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);

@@ -34,6 +34,8 @@ struct ViewFrame {
     std::optional<Metrics> regionMetrics;     // the same over the user's region
     std::shared_ptr<const Image> snapshot;    // the snapshot this view is compared against (null: the reference)
     QString snapshotName;
+    std::shared_ptr<const Image> alternate;   // another view's image chosen as the reference (Shift+1-9)
+    QString alternateName;
     QString error;                            // the last render's failure
 };
 
@@ -53,7 +55,8 @@ struct CompositorState {
 // The part of an image of `size` that the views show under the zoom and centre, in image pixels.
 QRectF visiblePart(QSize size, const CompositorState& state);
 
-// The image a view is compared against: its snapshot when one is chosen, else its reference.
+// The image a view is compared against: its snapshot when one is chosen, else the view chosen as the reference,
+// else its reference.
 const std::shared_ptr<const Image>& comparand(const ViewFrame& frame);
 
 // Linear RGB to 8-bit sRGB after 2^exposure, like the PNGs the CLI writes (within one 8-bit level).

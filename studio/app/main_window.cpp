@@ -106,6 +106,7 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     metrics_->setObjectName("metrics");
     metrics_->setTextFormat(Qt::RichText);
     metrics_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+    metrics_->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);  // new numbers never resize the viewport
     metricsDock->setWidget(metrics_);
     addDockWidget(Qt::RightDockWidgetArea, metricsDock);
 
@@ -115,6 +116,7 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     inspector_->setObjectName("inspector");
     inspector_->setTextFormat(Qt::RichText);
     inspector_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+    inspector_->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
     inspectorDock->setWidget(inspector_);
     addDockWidget(Qt::RightDockWidgetArea, inspectorDock);
 
@@ -287,6 +289,7 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         if (!modified && !opening_) QFile::remove(autosavePath(session_.path()));
     });
     refreshRecentMenu();
+    statusBar()->showMessage("Ready");  // created now, so that its messages never resize the viewport
     resize(1280, 800);
     updateTitle();
 }
@@ -463,6 +466,7 @@ void MainWindow::rebuildViews() {
     progress_.assign(project.views.size(), {});
     snapshots_.clear();
     comparedSnapshot_ = -1;
+    referenceView_ = -1;
     state_.region = QRect();
     refreshSnapshotList();
     viewList_->clear();
@@ -630,6 +634,7 @@ void MainWindow::onOutput(const RenderOutput& out) {
         last = clock.elapsed();
     };
     lap("bookkeeping");
+    if (!out.reference && out.view == referenceView_) refreshAlternates();
     updateMetrics(out.view);
     lap("metrics");
     updateConvergence();
@@ -747,6 +752,17 @@ void MainWindow::onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed) {
         return;
     }
     if (!pressed) return;
+    static const int shifted[] = {Qt::Key_Exclam,    Qt::Key_At,        Qt::Key_NumberSign,
+                                  Qt::Key_Dollar,    Qt::Key_Percent,   Qt::Key_AsciiCircum,
+                                  Qt::Key_Ampersand, Qt::Key_Asterisk,  Qt::Key_ParenLeft};
+    int chosen = -1;
+    if ((modifiers & Qt::ShiftModifier) && key >= Qt::Key_1 && key <= Qt::Key_9) chosen = key - Qt::Key_1;
+    for (int i = 0; i < 9; ++i)
+        if (key == shifted[i]) chosen = i;
+    if (chosen >= 0) {
+        chooseReferenceView(chosen == referenceView_ ? -1 : chosen);  // the same again: back to the reference
+        return;
+    }
     if (key >= Qt::Key_1 && key <= Qt::Key_9) {
         selectView(key - Qt::Key_1);
         if (state_.layout == Layout::Grid) state_.layout = Layout::Single;
@@ -916,6 +932,28 @@ void MainWindow::compareWithSnapshot(int index) {
     }
     for (int i = 0; i < int(frames_.size()); ++i)
         updateMetrics(i);
+    updateMetricsDock();
+    recompose();
+}
+
+void MainWindow::chooseReferenceView(int view) {
+    referenceView_ = view >= 0 && view < int(frames_.size()) ? view : -1;
+    refreshAlternates();
+    statusBar()->showMessage(referenceView_ < 0 ? QString("Comparing against the reference")
+                                                : "Comparing against view " + frames_[std::size_t(referenceView_)].name,
+                             5000);
+}
+
+void MainWindow::refreshAlternates() {
+    for (int i = 0; i < int(frames_.size()); ++i) {
+        ViewFrame& f = frames_[std::size_t(i)];
+        const bool use = referenceView_ >= 0 && i != referenceView_;
+        const std::shared_ptr<const Image> alternate = use ? frames_[std::size_t(referenceView_)].image : nullptr;
+        if (alternate == f.alternate) continue;
+        f.alternate = alternate;
+        f.alternateName = use ? frames_[std::size_t(referenceView_)].name : QString();
+        updateMetrics(i);
+    }
     updateMetricsDock();
     recompose();
 }

@@ -75,6 +75,9 @@ public:
     };
     int takeSnapshot();                    // of the current view; returns its index, -1 without an image
     void compareWithSnapshot(int index);   // its view is compared against it instead of the reference; -1: off
+    // Every other view is compared against view `view` instead of the path-traced reference (Shift+1-9); -1: off.
+    void chooseReferenceView(int view);
+    int referenceView() const { return referenceView_; }
     void restoreSnapshot(int index);       // its parameters and exposure back on its view, as one undoable edit
     const std::vector<Snapshot>& snapshots() const { return snapshots_; }
 
@@ -146,6 +149,8 @@ private:
     QListWidget* snapshotList_ = nullptr;
     std::vector<Snapshot> snapshots_;
     int comparedSnapshot_ = -1;
+    int referenceView_ = -1;
+    void refreshAlternates();
     // The images of each view's current render as it refined, for the convergence plot.
     struct Progress {
         int spp = 0;

@@ -142,8 +142,21 @@ private slots:
         QVERIFY(!window_->compositorState().showReference);
         QVERIFY(reference != single);
 
+        // Shift+2 makes view 2 every other view's reference (its label and metrics follow); Shift+2 again undoes it.
+        QTest::keyClick(window_->viewport(), Qt::Key_2, Qt::ShiftModifier);
+        QCOMPARE(window_->referenceView(), 1);
+        QVERIFY(window_->frames()[0].alternate == window_->frames()[1].image);
+        QVERIFY(!window_->frames()[1].alternate);
+        QTRY_VERIFY(window_->settled());
+        QVERIFY(window_->frames()[0].metrics && window_->frames()[0].metrics->relMSE > 0.0);
+        QTest::keyClick(window_->viewport(), Qt::Key_2, Qt::ShiftModifier);
+        QCOMPARE(window_->referenceView(), -1);
+        QVERIFY(!window_->frames()[0].alternate);
+        QTRY_VERIFY(window_->settled());
+
         // Zoom shows the same part of every view: the frame changes, and the cursor maps to pixels of that part.
         window_->setLayoutMode(Layout::Grid);
+        const QImage unzoomed = window_->composedFrame();
         const QRect r = viewRects(window_->frames(), window_->compositorState(), window_->viewport()->pixelSize())[0];
         int view = -1;
         QPoint pixel;
@@ -151,13 +164,13 @@ private slots:
         QCOMPARE(pixel, QPoint(0, 0));
         window_->compositorState().zoom = 4.0;
         window_->recompose();
-        QVERIFY(window_->composedFrame() != grid);
+        QVERIFY(window_->composedFrame() != unzoomed);
         QVERIFY(window_->viewAt(QPointF(r.x() + 1, r.y() + 1), view, pixel));
         QCOMPARE(view, 0);
         QCOMPARE(pixel, QPoint(36, 27));  // the centre quarter of 96 x 72 starts at (36, 27)
         QTest::keyClick(window_->viewport(), Qt::Key_Z);
         QCOMPARE(window_->compositorState().zoom, 1.0);
-        QCOMPARE(window_->composedFrame(), grid);
+        QCOMPARE(window_->composedFrame(), unzoomed);
     }
 
     // Turning off the light shaft's shadows re-renders that view only; undo brings the same image back.
