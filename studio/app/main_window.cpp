@@ -10,10 +10,8 @@
 #include <QCloseEvent>
 #include <QCryptographicHash>
 #include <QDateTime>
-#include <QElapsedTimer>
 #include <QThreadPool>
 
-#include <cstdio>
 #include <QSettings>
 #include <QStandardPaths>
 #include <QDir>
@@ -574,18 +572,6 @@ bool MainWindow::settled() const {
 }
 
 void MainWindow::onOutput(const RenderOutput& out) {
-    static const bool timing = qEnvironmentVariableIsSet("TYNDALL_STUDIO_TIMING");
-    QElapsedTimer clock;
-    clock.start();
-    struct Report {
-        QElapsedTimer& clock;
-        const RenderOutput& out;
-        ~Report() {
-            if (timing && clock.elapsed() > 5)
-                std::fprintf(stderr, "onOutput view %d ref %d: %lld ms\n", out.view, int(out.reference),
-                             (long long)clock.elapsed());
-        }
-    } report{clock, out};
     if (out.view < 0 || out.view >= int(frames_.size())) return;
     const std::vector<quint64>& generations = out.reference ? referenceGeneration_ : generation_;
     if (out.generation != generations[std::size_t(out.view)]) return;  // stale: a newer render is on its way
@@ -629,20 +615,11 @@ void MainWindow::onOutput(const RenderOutput& out) {
         if (!progress.empty() && progress.back().spp >= out.spp) progress.clear();  // a new render started over
         progress.push_back({out.spp, out.seconds, out.image});
     }
-    auto lap = [&, last = qint64(0)](const char* what) mutable {
-        if (timing && clock.elapsed() - last > 5) std::fprintf(stderr, "  %s %lld ms\n", what, (long long)(clock.elapsed() - last));
-        last = clock.elapsed();
-    };
-    lap("bookkeeping");
     if (!out.reference && out.view == referenceView_) refreshAlternates();
     updateMetrics(out.view);
-    lap("metrics");
     updateConvergence();
-    lap("convergence");
     updateMetricsDock();
-    lap("dock");
     recompose();
-    lap("compose");
 }
 
 void MainWindow::updateMetrics(int view) {
