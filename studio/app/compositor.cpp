@@ -2,6 +2,7 @@
 
 #include "tyndall/image_io.h"
 
+#include <QFontMetrics>
 #include <QPainter>
 
 #include <algorithm>
@@ -155,9 +156,13 @@ void drawLabel(QPainter& p, QRect imageRect, const QString& top, const QString& 
     QFont font = p.font();
     font.setPixelSize(12);
     p.setFont(font);
-    const QRect r(imageRect.x(), imageRect.bottom() + 3, std::max(imageRect.width(), 200), 14);
-    p.drawText(r, Qt::AlignLeft | Qt::AlignVCenter, top);
-    if (!bottom.isEmpty()) p.drawText(r.translated(0, 15), Qt::AlignLeft | Qt::AlignVCenter, bottom);
+    // Within the image's width, elided: a label never runs into the next cell of the grid.
+    const QRect r(imageRect.x(), imageRect.bottom() + 3, imageRect.width(), 14);
+    const QFontMetrics metrics(font);
+    p.drawText(r, Qt::AlignLeft | Qt::AlignVCenter, metrics.elidedText(top, Qt::ElideRight, r.width()));
+    if (!bottom.isEmpty())
+        p.drawText(r.translated(0, 15), Qt::AlignLeft | Qt::AlignVCenter,
+                   metrics.elidedText(bottom, Qt::ElideRight, r.width()));
 }
 
 void drawColourBar(QPainter& p, QSize size, DiffMode mode, double scale) {
