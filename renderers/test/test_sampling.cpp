@@ -824,6 +824,47 @@ TEST(Sobol, FirstPointsMatchKnownValues) {
     }
 }
 
+// sobol2() computes dimension 1 by a subset-sum transform (Lucas' theorem); it must equal the XOR of the direction
+// numbers of the index's set bits exactly, for every bit pattern: small indices, single bits, all ones, and random
+// 32-bit indices (the shuffled indices sobolSample2D() passes have all 32 bits in play).
+TEST(Sobol, Dimension1EqualsDirectionNumbers) {
+    auto byDirectionNumbers = [](sh::uint index) {
+        sh::uint y = 0u, v = 0x80000000u;
+        for (sh::uint i = index; i != 0u; i >>= 1u) {
+            if (i & 1u) y ^= v;
+            v ^= v >> 1u;
+        }
+        return y;
+    };
+    std::vector<sh::uint> indices;
+    for (sh::uint i = 0; i < 4096; ++i) indices.push_back(i);
+    for (int b = 0; b < 32; ++b) indices.push_back(1u << b);
+    indices.push_back(0xffffffffu);
+    sh::Pcg32 rng = sh::pcg32Seed(7u, 3u);
+    for (int k = 0; k < 100000; ++k) indices.push_back(sh::pcg32Next(rng));
+    for (sh::uint i : indices) {
+        ASSERT_EQ(sh::sobol2(i).y, byDirectionNumbers(i)) << "index " << i;
+        ASSERT_EQ(sh::sobol2(i).x, glm::bitfieldReverse(i)) << "index " << i;
+    }
+}
+
+// sobolSample2D() leaves out the bit reversals that cancel; it must equal the scramble written out in full.
+TEST(Sobol, SampleEqualsFullScramble) {
+    for (sh::uint pixelSeed : {0u, 5u, 0xdeadbeefu}) {
+        for (sh::uint pair : {0u, 1u, 9u}) {
+            const sh::uint seed = sh::hashCombine(pixelSeed, pair);
+            for (sh::uint i = 0; i < 2048; ++i) {
+                const sh::uvec2 s = sh::sobol2(sh::nestedUniformScramble(i, sh::hashCombine(seed, 0x6c8e9cf5u)));
+                const sh::uint sx = sh::nestedUniformScramble(s.x, sh::hashCombine(seed, 0xa511e9b3u));
+                const sh::uint sy = sh::nestedUniformScramble(s.y, sh::hashCombine(seed, 0x63d83595u));
+                const sh::vec2 p = sh::sobolSample2D(pixelSeed, i, pair);
+                ASSERT_EQ(p.x, std::min(sh::uintToUnitFloat(sx), sh::kOneMinusEpsilon)) << i;
+                ASSERT_EQ(p.y, std::min(sh::uintToUnitFloat(sy), sh::kOneMinusEpsilon)) << i;
+            }
+        }
+    }
+}
+
 // Empty if the points form a (0, m, 2)-net in base 2: for every k in 0..m, each of the 2^k x 2^(m-k) elementary
 // intervals holds exactly one point; otherwise a description of the first failure.
 std::string zeroTwoNetFailure(const std::vector<std::pair<double, double>>& points, int m) {

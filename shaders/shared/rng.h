@@ -78,17 +78,21 @@ TY_FUNC float pcg32NextFloat(TY_INOUT(Pcg32) rng) { return uintToUnitFloat(pcg32
 // available without direction-number tables, and each 2-D projection keeps its (0,2) stratification.
 
 // The first two Sobol dimensions as 32-bit fixed point. Dimension 0 is the van der Corput sequence; dimension 1 uses
-// the direction numbers v_0 = 2^31, v_k = v_{k-1} ^ (v_{k-1} >> 1).
-TY_FUNC uvec2 sobol2(uint index) {
-    uint x = bitfieldReverse(index);
-    uint y = 0u;
-    uint v = 0x80000000u;
-    for (uint i = index; i != 0u; i >>= 1u) {
-        if ((i & 1u) != 0u) y ^= v;
-        v ^= v >> 1u;
-    }
-    return uvec2(x, y);
+// the direction numbers v_0 = 2^31, v_k = v_{k-1} ^ (v_{k-1} >> 1), i.e. v_k = (I + S)^k v_0 with S the right shift.
+// By Lucas' theorem (I + S)^k = sum of S^j over the j whose bits are a subset of k's, so dimension 1 is the bit
+// reversal of w with w_j = XOR of index bit i over every i that is a superset of j: a subset-sum transform, one masked
+// shift per bit of the bit position (5 steps, instead of a loop over 32 index bits). Derivation: docs/reference.md.
+TY_FUNC uint sobolDimension1Reversed(uint index) {
+    uint w = index;
+    w ^= (w >> 1u) & 0x55555555u;
+    w ^= (w >> 2u) & 0x33333333u;
+    w ^= (w >> 4u) & 0x0f0f0f0fu;
+    w ^= (w >> 8u) & 0x00ff00ffu;
+    w ^= (w >> 16u) & 0x0000ffffu;
+    return w;
 }
+
+TY_FUNC uvec2 sobol2(uint index) { return uvec2(bitfieldReverse(index), bitfieldReverse(sobolDimension1Reversed(index))); }
 
 // A hash-based nested uniform scramble of a bit-reversed value: one random permutation per binary subtree.
 TY_FUNC uint laineKarrasPermutation(uint x, uint seed) {
@@ -106,13 +110,13 @@ TY_FUNC uint nestedUniformScramble(uint x, uint seed) {
     return bitfieldReverse(x);
 }
 
-// A 2-D point in [0,1)^2 for sample `index` of dimension pair `pair`, for one pixel identified by `pixelSeed`.
+// A 2-D point in [0,1)^2 for sample `index` of dimension pair `pair`, for one pixel identified by `pixelSeed`. It is
+// nestedUniformScramble() of each coordinate of sobol2(shuffled index) with the bit reversals that cancel left out.
 TY_FUNC vec2 sobolSample2D(uint pixelSeed, uint index, uint pair) {
     uint seed = hashCombine(pixelSeed, pair);
     uint shuffled = nestedUniformScramble(index, hashCombine(seed, 0x6c8e9cf5u));
-    uvec2 s = sobol2(shuffled);
-    uint sx = nestedUniformScramble(s.x, hashCombine(seed, 0xa511e9b3u));
-    uint sy = nestedUniformScramble(s.y, hashCombine(seed, 0x63d83595u));
+    uint sx = bitfieldReverse(laineKarrasPermutation(shuffled, hashCombine(seed, 0xa511e9b3u)));
+    uint sy = bitfieldReverse(laineKarrasPermutation(sobolDimension1Reversed(shuffled), hashCombine(seed, 0x63d83595u)));
     return vec2(min(uintToUnitFloat(sx), kOneMinusEpsilon), min(uintToUnitFloat(sy), kOneMinusEpsilon));
 }
 
