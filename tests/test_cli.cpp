@@ -1,5 +1,6 @@
 // The tyndall CLI end to end, as a user runs it: exit codes (0 ok, 1 failure, 2 bad input), messages and outputs.
 #include "tyndall/image_io.h"
+#include "tyndall/tonemap.h"
 #include "tyndall/project.h"
 
 #include <gtest/gtest.h>
@@ -119,6 +120,38 @@ TEST(Cli, RendersTheDefaultProjectsReferenceWithMetadata) {
     EXPECT_GT(sum, 0.0);
 }
 
+// --tonemap: each operator's PNG holds tonemapRgb() of the EXR's pixels (the studio's viewport and exports use the same
+// function), and the operators give different pictures.
+TEST(Cli, PngsGoThroughTheChosenTonemapOperator) {
+    fs::path dir = scratch("tonemap");
+    const std::string exr = (dir / "v.exr").string();
+    const std::string common = "render '" + source("projects/default.json") + "' --view glow --size 16x12 --spp 2 --seed 3 ";
+    ASSERT_EQ(tyndall(common + "-o '" + exr + "'").exitCode, 0);
+    const tyndall::Image linear = tyndall::readImage(exr);
+    std::vector<double> means;
+    for (const std::string& name : tyndall::tonemapNames()) {
+        const std::string png = (dir / (name + ".png")).string();
+        CliRun r = tyndall(common + "--exposure 1 --tonemap " + name + " -o '" + png + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        const tyndall::Image shown = tyndall::readImage(png);  // 8-bit values as floats in [0, 1]
+        ASSERT_EQ(shown.width(), linear.width());
+        const tyndall::Tonemap op = tyndall::tonemapFromName(name, "test");
+        double mean = 0.0;
+        for (int y = 0; y < linear.height(); ++y)
+            for (int x = 0; x < linear.width(); ++x) {
+                const auto d = tyndall::tonemapRgb(linear.at(x, y, 0), linear.at(x, y, 1), linear.at(x, y, 2), 1.0, op);
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_NEAR(shown.at(x, y, c), std::round(d[std::size_t(c)] * 255.0f) / 255.0f, 0.5 / 255.0)
+                        << name << " at " << x << ", " << y;
+                    mean += shown.at(x, y, c);
+                }
+            }
+        means.push_back(mean);
+    }
+    for (std::size_t i = 0; i < means.size(); ++i)
+        for (std::size_t j = i + 1; j < means.size(); ++j) EXPECT_NE(means[i], means[j]) << i << " vs " << j;
+}
+
 TEST(Cli, RendersAViewsPartOnlyAndTheSetOverridesAField) {
     fs::path dir = scratch("view");
     std::string a = (dir / "glow.exr").string(), b = (dir / "glow-dark.exr").string();
@@ -159,6 +192,8 @@ TEST(Cli, BadInputExitsWithTwoAndSaysWhy) {
         {"validate '" + malformed + "'", "malformed.json:4:"},
         {"validate '" + (dir / "absent.json").string() + "'", "absent.json"},
         {"render --frobnicate", ""},
+        {"render '" + project + "' --reference --spp 1 --tonemap filmic -o '" + (dir / "t.png").string() + "'",
+         "--tonemap: unknown tonemap operator \"filmic\" (allowed: srgb, reinhard, aces, falsecolour)"},
         {"compare '" + (dir / "absent.exr").string() + "' -r '" + (dir / "absent.exr").string() + "'", "absent.exr"},
     };
     for (const Case& c : cases) {
@@ -167,7 +202,7 @@ TEST(Cli, BadInputExitsWithTwoAndSaysWhy) {
         EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
     }
     // Nothing was written for the refused renders.
-    for (const char* name : {"huge.exr", "ref.tiff", "v.exr", "s.exr", "n.exr"})
+    for (const char* name : {"huge.exr", "ref.tiff", "v.exr", "s.exr", "n.exr", "t.png"})
         EXPECT_FALSE(fs::exists(dir / name)) << name;
     EXPECT_FALSE(fs::exists(dir / "missing"));
 }

@@ -117,7 +117,7 @@ OIIO::ImageSpec exrSpec(const Image& image) {
     return spec;
 }
 
-std::vector<std::uint8_t> pngPixels(const Image& image, double exposure, const std::string& path) {
+std::vector<std::uint8_t> pngPixels(const Image& image, double exposure, Tonemap op, const std::string& path) {
     Image rgb;
     try {
         rgb = image.select({"R", "G", "B"});
@@ -125,8 +125,10 @@ std::vector<std::uint8_t> pngPixels(const Image& image, double exposure, const s
         throw writeError(path, "a PNG needs channels R, G, B (" + e.message() + ")");
     }
     std::vector<std::uint8_t> bytes(rgb.size());
-    for (std::size_t i = 0; i < bytes.size(); ++i) {
-        bytes[i] = static_cast<std::uint8_t>(std::lround(tonemap(rgb.data()[i], exposure) * 255.0f));
+    for (std::size_t i = 0; i + 2 < bytes.size(); i += 3) {
+        const float* p = rgb.data() + i;
+        const std::array<float, 3> d = tonemapRgb(p[0], p[1], p[2], exposure, op);
+        for (int c = 0; c < 3; ++c) bytes[i + std::size_t(c)] = static_cast<std::uint8_t>(std::lround(d[std::size_t(c)] * 255.0f));
     }
     return bytes;
 }
@@ -150,7 +152,7 @@ std::vector<int> channelPermutation(const std::vector<std::string>& read, const 
 
 }  // namespace
 
-void writeImage(const Image& image, const std::string& path, double exposure) {
+void writeImage(const Image& image, const std::string& path, double exposure, Tonemap op) {
     const Format format = formatOf(path);
     if (image.empty() || image.channelCount() == 0) throw writeError(path, "the image is empty");
 
@@ -167,7 +169,7 @@ void writeImage(const Image& image, const std::string& path, double exposure) {
     if (format == Format::Exr) {
         spec = exrSpec(image);
     } else {
-        bytes = pngPixels(image, exposure, path);
+        bytes = pngPixels(image, exposure, op, path);
         spec = OIIO::ImageSpec(image.width(), image.height(), 3, OIIO::TypeDesc::UINT8);
         spec.attribute("oiio:ColorSpace", "sRGB");
     }

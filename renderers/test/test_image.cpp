@@ -2,10 +2,13 @@
 #include "tyndall/error.h"
 #include "tyndall/image.h"
 #include "tyndall/image_io.h"
+#include "tyndall/metrics.h"
+#include "tyndall/tonemap.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -288,3 +291,80 @@ TEST(ImageIo, MissingOrUnreadableInputNamesThePath) {
 
 }  // namespace
 }  // namespace tyndall
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Display transforms (tonemap.h)
+
+TEST(Tonemap, SrgbIsTheClampedTransferFunction) {
+    for (float v : {0.0f, 0.001f, 0.0031308f, 0.18f, 0.5f, 1.0f, 3.0f}) {
+        const auto d = tyndall::tonemapRgb(v, v, v, 1.0, tyndall::Tonemap::Srgb);
+        EXPECT_FLOAT_EQ(d[0], tyndall::tonemap(v, 1.0)) << v;
+    }
+    const auto nan = tyndall::tonemapRgb(std::nanf(""), -1.0f, 0.5f, 0.0, tyndall::Tonemap::Srgb);
+    EXPECT_EQ(nan[0], 0.0f);
+    EXPECT_EQ(nan[1], 0.0f);
+}
+
+// Reinhard's L / (1 + L) on luminance: luminance 1 becomes 1/2 and every channel is scaled alike (hue kept).
+TEST(Tonemap, ReinhardCompressesLuminanceAndKeepsChannelRatios) {
+    const float r = 2.0f, g = 0.8f, b = 0.3f;
+    const float l = 0.2126f * r + 0.7152f * g + 0.0722f * b;
+    const auto d = tyndall::tonemapRgb(r / l, g / l, b / l, 0.0, tyndall::Tonemap::Reinhard);
+    for (int c = 0; c < 3; ++c) {
+        const float expected = std::clamp(tyndall::srgbEncode(0.5f * std::array<float, 3>{r, g, b}[std::size_t(c)] / l),
+                                          0.0f, 1.0f);
+        EXPECT_NEAR(d[std::size_t(c)], expected, 1e-6f) << c;
+    }
+    // Never above 1 however bright, and monotone in the luminance.
+    float last = 0.0f;
+    for (float v = 0.01f; v < 1e4f; v *= 1.7f) {
+        const float y = tyndall::tonemapRgb(v, v, v, 0.0, tyndall::Tonemap::Reinhard)[1];
+        EXPECT_LE(y, 1.0f);
+        EXPECT_GE(y, last);
+        last = y;
+    }
+}
+
+// Narkowicz's fit: 0 at 0, increases until it saturates at 1 (about 16 times mid grey's exposure); mid grey 0.18 lands near his curve's 0.18 * 0.6 input value.
+TEST(Tonemap, AcesFitIsMonotoneAndSaturates) {
+    EXPECT_EQ(tyndall::tonemapRgb(0.0f, 0.0f, 0.0f, 0.0, tyndall::Tonemap::Aces)[0], 0.0f);
+    EXPECT_FLOAT_EQ(tyndall::tonemapRgb(1e6f, 1e6f, 1e6f, 0.0, tyndall::Tonemap::Aces)[0], 1.0f);
+    float last = -1.0f;
+    for (float v = 0.001f; v < 100.0f; v *= 1.3f) {
+        const float y = tyndall::tonemapRgb(v, v, v, 0.0, tyndall::Tonemap::Aces)[0];
+        EXPECT_TRUE(y > last || (y == 1.0f && last == 1.0f)) << v << ": " << y << " after " << last;
+        last = y;
+    }
+    const float x = 0.18f * 0.6f;
+    const float fit = x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f);
+    EXPECT_NEAR(tyndall::tonemapRgb(0.18f, 0.18f, 0.18f, 0.0, tyndall::Tonemap::Aces)[0], tyndall::srgbEncode(fit), 1e-6f);
+}
+
+// False colour: log2 luminance after exposure, -10 EV at viridis(0), +2 EV at viridis(1), -4 EV half way.
+TEST(Tonemap, FalseColourMapsLogLuminanceToViridis) {
+    auto shown = [](double t) {
+        const tyndall::Rgb c = tyndall::viridis(t);
+        return std::array<float, 3>{tyndall::srgbEncode(float(c.r)), tyndall::srgbEncode(float(c.g)),
+                                    tyndall::srgbEncode(float(c.b))};
+    };
+    const std::pair<float, double> cases[] = {{std::exp2(-10.0f), 0.0}, {std::exp2(2.0f), 1.0}, {std::exp2(-4.0f), 0.5},
+                                              {0.0f, 0.0},              {1e9f, 1.0}};
+    for (auto [l, t] : cases) {
+        // Exposure +1 EV applied to half the luminance.
+        const auto d = tyndall::tonemapRgb(l / 2, l / 2, l / 2, 1.0, tyndall::Tonemap::FalseColour);
+        const auto e = shown(t);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(d[std::size_t(c)], e[std::size_t(c)], 1e-5f) << l << " channel " << c;
+    }
+}
+
+TEST(Tonemap, NamesRoundTripAndAnUnknownOneIsRefused) {
+    for (std::size_t i = 0; i < tyndall::tonemapNames().size(); ++i)
+        EXPECT_EQ(int(tyndall::tonemapFromName(tyndall::tonemapNames()[i], "x")), int(i));
+    try {
+        tyndall::tonemapFromName("filmic", "views.a.tonemap");
+        FAIL() << "accepted an unknown operator";
+    } catch (const tyndall::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("views.a.tonemap"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("srgb, reinhard, aces, falsecolour"), std::string::npos) << e.what();
+    }
+}

@@ -125,6 +125,7 @@ int render(const RenderArgs& args) {
             throw InputError(InputLocation{"", 0, 0, "--time"}, "must be a positive number of seconds");
         if (!args.reference && args.view.empty())
             throw InputError(InputLocation{"", 0, 0, "--view"}, "name a view with --view, or render the reference with --reference");
+        const Tonemap tonemap = tonemapFromName(args.tonemap, "--tonemap");
         std::vector<std::string> outs = args.outs;
         if (outs.empty()) {
             std::string stem = std::filesystem::path(args.project).stem().string();
@@ -153,7 +154,7 @@ int render(const RenderArgs& args) {
 
         const double exposure = args.exposure.value_or(job.exposure);
         for (const std::string& out : outs) {
-            writeImage(result.image, out, exposure);
+            writeImage(result.image, out, exposure, tonemap);
             std::printf("wrote %s (%d x %d, %d spp, %.2f s)\n", out.c_str(), result.image.width(),
                         result.image.height(), result.spp, result.seconds);
         }

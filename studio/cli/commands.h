@@ -21,6 +21,7 @@ struct RenderArgs {
     int threads = 0;
     std::vector<std::string> outs;  // .exr and/or .png
     std::optional<double> exposure; // PNG exposure; default: the view's
+    std::string tonemap = "srgb";   // PNG display transform (tonemap.h)
 };
 int render(const RenderArgs& args);
 

@@ -25,6 +25,9 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--threads", render.threads, "CPU threads (0: all)");
     renderCmd->add_option("--out,-o", render.outs, "output image(s): .exr (float + metadata) or .png (tonemapped)");
     renderCmd->add_option("--exposure", render.exposure, "exposure in stops for PNG output (default: the view's)");
+    renderCmd->add_option("--tonemap", render.tonemap,
+                          "display transform of PNG output, after the exposure: srgb (clamped, the default), reinhard, "
+                          "aces, falsecolour (log2 luminance in viridis, -10 to +2 EV)");
 
     ValidateArgs validate;
     CLI::App* validateCmd = app.add_subcommand("validate", "check project files; each problem names the file, the field and what is allowed");

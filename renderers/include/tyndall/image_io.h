@@ -3,6 +3,7 @@
 #pragma once
 
 #include "tyndall/image.h"
+#include "tyndall/tonemap.h"
 
 #include <string>
 
@@ -10,8 +11,8 @@ namespace tyndall {
 
 // Writes by extension (.exr or .png), atomically: a temporary file beside the target, then rename, so that a failed
 // write leaves no partial file. Throws InputError naming the path when it cannot be written.
-// PNG: RGB only, multiplied by 2^exposure, sRGB-encoded, 8 bits.
-void writeImage(const Image& image, const std::string& path, double exposure = 0.0);
+// PNG: RGB only, multiplied by 2^exposure, through the display transform `op` (tonemap.h), 8 bits.
+void writeImage(const Image& image, const std::string& path, double exposure = 0.0, Tonemap op = Tonemap::Srgb);
 
 // Reads an EXR (every channel, every string metadata attribute) or any format OIIO reads (as float). Throws InputError
 // naming the path for a missing or unreadable file.
