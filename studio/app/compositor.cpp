@@ -83,7 +83,7 @@ struct DisplayEntry {
 template <typename Make>
 QImage cachedDisplay(const std::shared_ptr<const Image>& image, const std::shared_ptr<const Image>& against,
                      double exposure, int mode, double scale, Make&& make) {
-    static std::vector<DisplayEntry> cache;  // GUI thread only
+    thread_local std::vector<DisplayEntry> cache;  // per composing thread
     for (auto it = cache.begin(); it != cache.end();) {
         if (it->image.expired() || (it->againstKey && it->against.expired())) {
             it = cache.erase(it);
@@ -98,6 +98,24 @@ QImage cachedDisplay(const std::shared_ptr<const Image>& image, const std::share
     cache.push_back(e);
     if (cache.size() > 48) cache.erase(cache.begin());
     return e.display;
+}
+
+// sharedDifferenceScale() sums every reference (1.5 M pixels for six views): once per set of references.
+double cachedDifferenceScale(const std::vector<ViewFrame>& frames) {
+    thread_local std::vector<const Image*> keys;  // per composing thread
+    thread_local std::vector<std::weak_ptr<const Image>> alive;
+    thread_local double scale = 0.0;
+    bool same = keys.size() == frames.size();
+    for (std::size_t i = 0; same && i < frames.size(); ++i)
+        same = keys[i] == frames[i].reference.get() && (!keys[i] || !alive[i].expired());
+    if (same) return scale;
+    keys.clear();
+    alive.clear();
+    for (const ViewFrame& f : frames) {
+        keys.push_back(f.reference.get());
+        alive.push_back(f.reference);
+    }
+    return scale = sharedDifferenceScale(frames);
 }
 
 QImage differenceDisplay(const Image& image, const Image& reference, DiffMode mode, double scale) {
@@ -184,6 +202,22 @@ void drawColourBar(QPainter& p, QSize size, DiffMode mode, double scale) {
     p.drawText(QRect(bar.x(), bar.bottom() + 2, width, 14), Qt::AlignRight, number(end));
 }
 
+// The false-colour map's bar: luminance after exposure, in stops (EV) of 1.
+void drawFalseColourBar(QPainter& p, QSize size) {
+    const int width = std::min(256, size.width() / 3), height = 10;
+    const QRect bar(size.width() - width - 12, size.height() - height - 20, width, height);
+    for (int x = 0; x < width; ++x) {
+        const Rgb c = viridis((x + 0.5) / width);
+        p.setPen(QColor(int(srgbEncode(float(c.r)) * 255.0f + 0.5f), int(srgbEncode(float(c.g)) * 255.0f + 0.5f),
+                        int(srgbEncode(float(c.b)) * 255.0f + 0.5f)));
+        p.drawLine(bar.x() + x, bar.y(), bar.x() + x, bar.bottom());
+    }
+    p.setPen(QColor(230, 230, 230));
+    p.drawText(QRect(bar.x(), bar.bottom() + 2, width, 14), Qt::AlignLeft, QString::number(kFalseColourMinEv) + " EV");
+    p.drawText(QRect(bar.x(), bar.bottom() + 2, width, 14), Qt::AlignHCenter, "log2 luminance");
+    p.drawText(QRect(bar.x(), bar.bottom() + 2, width, 14), Qt::AlignRight, "+" + QString::number(kFalseColourMaxEv) + " EV");
+}
+
 }  // namespace
 
 QRectF visiblePart(QSize size, const CompositorState& state) {
@@ -198,10 +232,23 @@ const std::shared_ptr<const Image>& comparand(const ViewFrame& frame) {
     return frame.snapshot ? frame.snapshot : frame.alternate ? frame.alternate : frame.reference;
 }
 
-QImage toDisplay(const Image& image, double exposure) {
-    // tonemap() is 2^exposure then the sRGB curve, clamped: a table of the curve over [0, 1] at 4096 steps gives the
-    // same 8-bit values (the curve's slope is at most 12.92, so a step moves it by at most 0.8 of an 8-bit level) without a
-    // pow per channel.
+QImage toDisplay(const Image& image, double exposure, Tonemap op) {
+    QImage out(image.width(), image.height(), QImage::Format_RGBA8888);
+    if (op != Tonemap::Srgb) {
+        for (int y = 0; y < image.height(); ++y) {
+            uchar* row = out.scanLine(y);
+            for (int x = 0; x < image.width(); ++x) {
+                const std::array<float, 3> d = tonemapRgb(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2),
+                                                          exposure, op);
+                for (int c = 0; c < 3; ++c) row[4 * x + c] = uchar(std::lround(d[std::size_t(c)] * 255.0f));
+                row[4 * x + 3] = 255;
+            }
+        }
+        return out;
+    }
+    // Plain sRGB is 2^exposure then the sRGB curve, clamped: a table of the curve over [0, 1] at 4096 steps gives the
+    // same 8-bit values (the curve's slope is at most 12.92, so a step moves it by at most 0.8 of an 8-bit level)
+    // without a pow per channel.
     static const std::vector<uchar> table = [] {
         std::vector<uchar> t(4097);
         for (int i = 0; i <= 4096; ++i)
@@ -209,7 +256,6 @@ QImage toDisplay(const Image& image, double exposure) {
         return t;
     }();
     const float scale = float(std::exp2(exposure)) * 4096.0f;
-    QImage out(image.width(), image.height(), QImage::Format_RGBA8888);
     for (int y = 0; y < image.height(); ++y) {
         uchar* row = out.scanLine(y);
         for (int x = 0; x < image.width(); ++x) {
@@ -252,7 +298,7 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
         return frame;
     }
     const std::vector<QRect> rects = cells(frames, state, size);
-    const double scale = sharedDifferenceScale(frames);
+    const double scale = state.diff != DiffMode::Off ? cachedDifferenceScale(frames) : 0.0;
     auto displayFull = [&](const ViewFrame& f, bool reference) -> QImage {
         const std::shared_ptr<const Image>& against = comparand(f);
         const std::shared_ptr<const Image>& img = reference ? against : f.image;
@@ -263,7 +309,8 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             return cachedDisplay(img, against, 0.0, int(state.diff), scale,
                                  [&] { return differenceDisplay(*img, *against, state.diff, scale); });
         }
-        return cachedDisplay(img, nullptr, exposure, 0, 0.0, [&] { return toDisplay(*img, exposure); });
+        return cachedDisplay(img, nullptr, exposure, 16 + int(state.tonemap), 0.0,
+                             [&] { return toDisplay(*img, exposure, state.tonemap); });
     };
     // Every view shows the same part of its image (synchronized zoom and pan).
     auto display = [&](const ViewFrame& f, bool reference) -> QImage {
@@ -308,7 +355,11 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
         drawLabel(p, r, labelOf(f, reference), reference ? QString() : metricsLine(f));
         if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);
     }
-    if (state.diff != DiffMode::Off) drawColourBar(p, size, state.diff, scale);
+    if (state.diff != DiffMode::Off) {
+        drawColourBar(p, size, state.diff, scale);
+    } else if (state.tonemap == Tonemap::FalseColour) {
+        drawFalseColourBar(p, size);
+    }
     return frame;
 }
 

@@ -6,6 +6,7 @@
 
 #include "tyndall/image.h"
 #include "tyndall/metrics.h"
+#include "tyndall/tonemap.h"
 
 #include <QImage>
 #include <QRect>
@@ -47,6 +48,7 @@ struct CompositorState {
     bool swapped = false;        // split: the reference on the left
     DiffMode diff = DiffMode::Off;
     double exposureOffset = 0.0; // EV added to every view's exposure (E / Shift+E)
+    Tonemap tonemap = Tonemap::Srgb;  // the display transform of every view (M cycles), not of differences
     QRect region;                // image pixels; empty for none: drawn on every view, metrics over it
     double zoom = 1.0;           // >= 1, the same for every view (synchronized)
     QPointF centre{0.5, 0.5};    // what the views centre on, in [0, 1]^2 of the image
@@ -59,8 +61,9 @@ QRectF visiblePart(QSize size, const CompositorState& state);
 // else its reference.
 const std::shared_ptr<const Image>& comparand(const ViewFrame& frame);
 
-// Linear RGB to 8-bit sRGB after 2^exposure, like the PNGs the CLI writes (within one 8-bit level).
-QImage toDisplay(const Image& image, double exposure);
+// Linear RGB to 8-bit display values after 2^exposure through `op`, like the PNGs the CLI writes (within one 8-bit
+// level for sRGB, which takes a table; exactly for the other operators).
+QImage toDisplay(const Image& image, double exposure, Tonemap op = Tonemap::Srgb);
 
 // The difference scale shared by every view: 10 % of the mean luminance of the references (1e-3 without any).
 double sharedDifferenceScale(const std::vector<ViewFrame>& frames);

@@ -1,4 +1,5 @@
 #include "main_window.h"
+#include "trace.h"
 
 #include "tyndall/geometry.h"
 #include "tyndall/image_io.h"
@@ -8,11 +9,13 @@
 #include <QActionGroup>
 #include <QApplication>
 #include <QCloseEvent>
+#include <QComboBox>
 #include <QCryptographicHash>
 #include <QDateTime>
 #include <QThreadPool>
 
 #include <QSettings>
+#include <QSignalBlocker>
 #include <QStandardPaths>
 #include <QDir>
 #include <QDockWidget>
@@ -21,6 +24,7 @@
 #include <QGuiApplication>
 #include <QKeyEvent>
 #include <QLabel>
+#include <QHeaderView>
 #include <QListWidget>
 #include <QMenuBar>
 #include <QHBoxLayout>
@@ -29,6 +33,7 @@
 #include <QVBoxLayout>
 #include <QSaveFile>
 #include <QStatusBar>
+#include <QTableWidget>
 #include <QToolBar>
 #include <QVulkanInstance>
 
@@ -78,6 +83,11 @@ QString displayNameOf(const std::string& technique) {
 MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrides)
     : overrides_(std::move(overrides)) {
     renderer_ = new RenderService(this);
+    composer_ = new Composer(this);
+    // Not the global pool: Qt's raster engine splits large fills over the global pool and waits for them, so a
+    // widget's paint would wait behind a 100 ms metrics job.
+    background_ = new QThreadPool(this);
+    background_->setMaxThreadCount(2);
     viewport_ = new Viewport;
     viewport_->setVulkanInstance(vulkan);
     QWidget* container = QWidget::createWindowContainer(viewport_, this);
@@ -100,10 +110,16 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
 
     auto* metricsDock = new QDockWidget("Metrics", this);
     metricsDock->setObjectName("metricsDock");
-    metrics_ = new QLabel;
+    metrics_ = new QTableWidget(0, 6);
     metrics_->setObjectName("metrics");
-    metrics_->setTextFormat(Qt::RichText);
-    metrics_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+    metrics_->setHorizontalHeaderLabels({"relMSE", "PSNR", "ref. noise", "bias %", "region relMSE", ""});
+    metrics_->horizontalHeaderItem(0)->setToolTip("relative MSE of the view against its reference");
+    metrics_->horizontalHeaderItem(2)->setToolTip(
+        "relMSE of the reference's own noise (from its variance): a view's relMSE near it is noise, above it is bias");
+    metrics_->horizontalHeaderItem(3)->setToolTip("the view's mean luminance minus the reference's, in %");
+    metrics_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+    metrics_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+    metrics_->horizontalHeader()->setStretchLastSection(true);
     metrics_->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);  // new numbers never resize the viewport
     metricsDock->setWidget(metrics_);
     addDockWidget(Qt::RightDockWidgetArea, metricsDock);
@@ -178,6 +194,7 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         updateTitle();
     });
     connect(&session_, &Session::viewChanged, this, [this](int view) {
+        trace("edit of view %d", view);
         const View& v = session_.project().views[std::size_t(view)];
         frames_[std::size_t(view)].exposure = v.exposure;
         viewKeys_[std::size_t(view)] = v.parameters.dump() + "/" + std::to_string(v.exposure);
@@ -209,6 +226,10 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         recompose();
     });
     connect(renderer_, &RenderService::output, this, &MainWindow::onOutput);
+    connect(composer_, &Composer::composed, this, [this](const QImage& frame) {
+        composed_ = frame;
+        viewport_->setFrame(frame);
+    });
 
     debounce_.setSingleShot(true);
     debounce_.setInterval(kDebounceMs);
@@ -294,7 +315,7 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
 
 MainWindow::~MainWindow() {
     renderer_->cancelAll();
-    QThreadPool::globalInstance()->waitForDone();  // metrics in flight post back to this window
+    background_->waitForDone();  // metrics in flight post back to this window
     QCoreApplication::removePostedEvents(this);
 }
 
@@ -364,6 +385,22 @@ void MainWindow::buildMenus() {
     diff->setShortcut(QKeySequence("D"));
     diff->setShortcutContext(Qt::ApplicationShortcut);
     toolbar->addAction(diff);
+
+    // The display transform of every view (differences keep their own maps).
+    toolbar->addSeparator();
+    tonemapCombo_ = new QComboBox;
+    tonemapCombo_->setObjectName("tonemap");
+    tonemapCombo_->setToolTip("Tonemap operator, after the exposure (M cycles): sRGB clamps; Reinhard compresses "
+                              "luminance, keeping hue; ACES is Narkowicz's filmic fit; false colour maps log2 "
+                              "luminance to viridis");
+    for (const std::string& name : tonemapNames()) tonemapCombo_->addItem(QString::fromStdString(name));
+    connect(tonemapCombo_, &QComboBox::currentIndexChanged, this, [this](int i) { setTonemap(Tonemap(i)); });
+    toolbar->addWidget(tonemapCombo_);
+    QAction* cycleTonemap = view->addAction("Cycle &tonemap operator (sRGB, Reinhard, ACES, false colour)", this, [this] {
+        setTonemap(Tonemap((int(state_.tonemap) + 1) % int(tonemapNames().size())));
+    });
+    cycleTonemap->setShortcut(QKeySequence("M"));
+    cycleTonemap->setShortcutContext(Qt::ApplicationShortcut);
     for (QAction* a : {undo, redo, save, open, saveAs}) a->setShortcutContext(Qt::ApplicationShortcut);
 }
 
@@ -499,6 +536,7 @@ void MainWindow::renderView(int view, bool reference) {
     if (!reference) {
         pending_[std::size_t(view)] = true;
         frames_[std::size_t(view)].rendering = true;
+        trace("view %d: job made", view);
         renderer_->submit(std::move(task));
         return;
     }
@@ -507,22 +545,33 @@ void MainWindow::renderView(int view, bool reference) {
     const QString cached = referenceCachePath(view);
     cachePathOf_[task.generation] = cached;
     if (QFile::exists(cached)) {
-        try {
+        // Read in the background (an EXR of 512 x 512 takes ~10 ms, more while renders run); an unreadable file is
+        // removed and the reference rendered after all.
+        renderer_->cancelReference(view);
+        background_->start([this, task, cached] {
+            lowerCurrentThreadPriority(5);
             RenderOutput out;
-            out.view = view;
+            out.view = task.view;
             out.reference = true;
             out.generation = task.generation;
-            auto image = std::make_shared<Image>(readImage(cached.toStdString()));
-            out.spp = image->metadata.count("spp") ? std::atoi(image->metadata.at("spp").c_str()) : 0;
-            out.image = std::move(image);
-            out.final = true;
-            out.cached = true;
-            renderer_->cancelReference(view);
-            QTimer::singleShot(0, this, [this, out] { onOutput(out); });
-            return;
-        } catch (const std::exception&) {
-            QFile::remove(cached);  // unreadable: render it again
-        }
+            try {
+                auto image = std::make_shared<Image>(readImage(cached.toStdString()));
+                out.spp = image->metadata.count("spp") ? std::atoi(image->metadata.at("spp").c_str()) : 0;
+                out.image = std::move(image);
+                out.final = true;
+                out.cached = true;
+            } catch (const std::exception&) {
+                QFile::remove(cached);
+                QMetaObject::invokeMethod(this, [this, task] {
+                    if (std::size_t(task.view) < referenceGeneration_.size() &&
+                        task.generation == referenceGeneration_[std::size_t(task.view)])
+                        renderer_->submit(task);
+                }, Qt::QueuedConnection);
+                return;
+            }
+            QMetaObject::invokeMethod(this, [this, out] { onOutput(out); }, Qt::QueuedConnection);
+        });
+        return;
     }
     renderer_->submit(std::move(task));
 }
@@ -572,6 +621,7 @@ bool MainWindow::settled() const {
 }
 
 void MainWindow::onOutput(const RenderOutput& out) {
+    trace("%s %d: image received (%d spp)", out.reference ? "reference" : "view", out.view, out.spp);
     if (out.view < 0 || out.view >= int(frames_.size())) return;
     const std::vector<quint64>& generations = out.reference ? referenceGeneration_ : generation_;
     if (out.generation != generations[std::size_t(out.view)]) return;  // stale: a newer render is on its way
@@ -590,7 +640,8 @@ void MainWindow::onOutput(const RenderOutput& out) {
             QDir().mkpath(referenceCacheFolder());
             const std::shared_ptr<const Image> image = out.image;
             const std::string file = path->second.toStdString();
-            QThreadPool::globalInstance()->start([image, file] {
+            background_->start([image, file] {
+                lowerCurrentThreadPriority(5);  // as the metrics (the pool's threads keep what they were given)
                 try {
                     writeImage(*image, file);
                 } catch (const std::exception&) {
@@ -633,7 +684,8 @@ void MainWindow::updateMetrics(int view) {
     const double exposure = f.exposure;
     const QRect region = state_.region.intersected(QRect(0, 0, image->width(), image->height()));
     ++metricsPending_;
-    QThreadPool::globalInstance()->start([this, view, image, against, exposure, region] {
+    background_->start([this, view, image, against, exposure, region] {
+        lowerCurrentThreadPriority(5);  // below the GUI, above the renders: the numbers follow their images
         std::optional<Metrics> whole, part;
         try {
             whole = computeMetrics(*image, *against, exposure);
@@ -686,30 +738,55 @@ void MainWindow::updateConvergence() {
 }
 
 void MainWindow::updateMetricsDock() {
-    QString html = "<table cellspacing=4><tr><th align=left>view</th><th>relMSE</th><th>PSNR</th><th>ref. noise</th>"
-                   "<th>bias %</th><th>region relMSE</th></tr>";
-    for (const ViewFrame& f : frames_) {
-        html += "<tr><td>" + f.name.toHtmlEscaped() + "</td>";
-        if (f.metrics)
-            html += QString("<td>%1</td><td>%2</td><td>%3</td><td>%4</td>")
-                        .arg(f.metrics->relMSE, 0, 'g', 3)
-                        .arg(f.metrics->psnr, 0, 'g', 4)
-                        .arg(f.metrics->referenceNoiseRelMSE ? QString::number(*f.metrics->referenceNoiseRelMSE, 'g', 3)
-                                                             : QString("-"))
-                        .arg(f.metrics->energyBias, 0, 'g', 3) +
-                    "<td>" + (f.regionMetrics ? QString::number(f.regionMetrics->relMSE, 'g', 3) : QString("-")) +
-                    "</td>";
-        else
-            html += "<td colspan=5>waiting for both images</td>";
-        html += "</tr>";
+    if (metrics_->rowCount() != int(frames_.size())) metrics_->setRowCount(int(frames_.size()));
+    // Only cells whose text changes are touched, so that a new image costs no layout of the dock.
+    auto set = [this](int row, int column, const QString& text) {
+        QTableWidgetItem* item = metrics_->item(row, column);
+        if (!item) {
+            item = new QTableWidgetItem;
+            item->setTextAlignment(column == 0 ? Qt::AlignLeft | Qt::AlignVCenter : Qt::AlignRight | Qt::AlignVCenter);
+            metrics_->setItem(row, column, item);
+        }
+        if (item->text() != text) item->setText(text);
+    };
+    for (int row = 0; row < int(frames_.size()); ++row) {
+        const ViewFrame& f = frames_[std::size_t(row)];
+        QTableWidgetItem* header = metrics_->verticalHeaderItem(row);
+        if (!header || header->text() != f.name) metrics_->setVerticalHeaderItem(row, new QTableWidgetItem(f.name));
+        if (!f.metrics) {
+            set(row, 0, "waiting");
+            for (int c = 1; c < 5; ++c) set(row, c, "");
+            continue;
+        }
+        set(row, 0, QString::number(f.metrics->relMSE, 'g', 3));
+        set(row, 1, QString::number(f.metrics->psnr, 'g', 4));
+        set(row, 2, f.metrics->referenceNoiseRelMSE ? QString::number(*f.metrics->referenceNoiseRelMSE, 'g', 3) : "-");
+        set(row, 3, QString::number(f.metrics->energyBias, 'g', 3));
+        set(row, 4, f.regionMetrics ? QString::number(f.regionMetrics->relMSE, 'g', 3) : "-");
     }
-    metrics_->setText(html + "</table>");
 }
 
 void MainWindow::recompose() {
+    // Once per pass of the event loop, however many changes it brought (an edit resets metrics, marks the view as
+    // rendering and moves the panels, each asking for a frame).
+    if (composeQueued_) return;
+    composeQueued_ = true;
+    QTimer::singleShot(0, this, [this] { requestCompose(); });
+}
+
+void MainWindow::requestCompose() {
+    if (!composeQueued_) return;
+    composeQueued_ = false;
     const QSize size = viewport_->pixelSize().expandedTo(QSize(64, 48));
-    composed_ = compose(frames_, state_, size);
-    viewport_->setFrame(composed_);
+    composer_->request(frames_, state_, size);
+}
+
+void MainWindow::waitForBackgroundWork() { background_->waitForDone(); }
+
+const QImage& MainWindow::composedFrame() {
+    requestCompose();
+    composed_ = composer_->wait();
+    return composed_;
 }
 
 void MainWindow::setLayoutMode(Layout layout) {
@@ -759,6 +836,8 @@ void MainWindow::onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed) {
     } else if (key == Qt::Key_D) {
         state_.diff = DiffMode((int(state_.diff) + 1) % 4);
         recompose();
+    } else if (key == Qt::Key_M) {
+        setTonemap(Tonemap((int(state_.tonemap) + 1) % int(tonemapNames().size())));
     } else if (key == Qt::Key_Z) {
         state_.zoom = 1.0;
         state_.centre = QPointF(0.5, 0.5);
@@ -770,6 +849,15 @@ void MainWindow::onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed) {
     } else if (key == Qt::Key_Escape) {
         setRegion(QRect());
     }
+}
+
+void MainWindow::setTonemap(Tonemap op) {
+    state_.tonemap = op;
+    if (tonemapCombo_->currentIndex() != int(op)) {
+        const QSignalBlocker block(tonemapCombo_);
+        tonemapCombo_->setCurrentIndex(int(op));
+    }
+    recompose();
 }
 
 void MainWindow::keyPressEvent(QKeyEvent* event) {
@@ -1021,13 +1109,15 @@ bool MainWindow::exportComparison(const QString& folder, QString* error) {
         const double scale = sharedDifferenceScale(frames_);
         for (const ViewFrame& f : frames_) {
             const std::string stem = dir.filePath(f.name).toStdString();
+            // PNGs as the viewport shows them: the view's exposure with the E / Shift+E offset, and the operator.
+            const double exposure = f.exposure + state_.exposureOffset;
             if (f.image) {
                 writeImage(*f.image, stem + ".exr", f.exposure);
-                writeImage(*f.image, stem + ".png", f.exposure);
+                writeImage(*f.image, stem + ".png", exposure, state_.tonemap);
             }
             if (f.reference) {
                 writeImage(*f.reference, stem + "-reference.exr", f.exposure);
-                writeImage(*f.reference, stem + "-reference.png", f.exposure);
+                writeImage(*f.reference, stem + "-reference.png", exposure, state_.tonemap);
             }
             if (f.image && f.reference && f.metrics) {
                 writeImage(differenceImage(*f.image, *f.reference, DifferenceKind::Signed, scale), stem + "-diff.png");
@@ -1043,8 +1133,12 @@ bool MainWindow::exportComparison(const QString& folder, QString* error) {
                 throw std::runtime_error("cannot write " + dir.filePath(name).toStdString());
         };
         writeText("metrics.json", metrics.dump(2) + "\n");
+        const nlohmann::json display = {{"tonemap", tonemapNames()[std::size_t(state_.tonemap)]},
+                                         {"exposureOffset", state_.exposureOffset},
+                                         {"differenceScale", scale}};
+        writeText("display.json", display.dump(2) + "\n");
         writeText("metrics.csv", csv);
-        if (!composed_.save(dir.filePath("viewport.png"))) throw std::runtime_error("cannot write viewport.png");
+        if (!composedFrame().save(dir.filePath("viewport.png"))) throw std::runtime_error("cannot write viewport.png");
         for (Plot* plot : plots_->plots())
             for (const char* suffix : {".png", ".svg"}) {
                 QString why;
@@ -1057,8 +1151,10 @@ bool MainWindow::exportComparison(const QString& folder, QString* error) {
             if (region.isEmpty() || !f.image) continue;
             const QRect r = region.intersected(QRect(0, 0, f.image->width(), f.image->height()));
             if (r.isEmpty()) continue;
-            toDisplay(*f.image, f.exposure).copy(r).save(dir.filePath(f.name + "-region.png"));
-            if (f.reference) toDisplay(*f.reference, f.exposure).copy(r).save(dir.filePath(f.name + "-reference-region.png"));
+            const double exposure = f.exposure + state_.exposureOffset;
+            toDisplay(*f.image, exposure, state_.tonemap).copy(r).save(dir.filePath(f.name + "-region.png"));
+            if (f.reference)
+                toDisplay(*f.reference, exposure, state_.tonemap).copy(r).save(dir.filePath(f.name + "-reference-region.png"));
         }
         return true;
     } catch (const std::exception& e) {

@@ -9,6 +9,7 @@
 #include "render_service.h"
 #include "scene_panel.h"
 #include "session.h"
+#include "composer.h"
 #include "viewport.h"
 
 #include <QMainWindow>
@@ -19,7 +20,10 @@
 #include <vector>
 
 class QListWidget;
+class QComboBox;
 class QLabel;
+class QTableWidget;
+class QThreadPool;
 class QVulkanInstance;
 
 namespace tyndall::studio {
@@ -54,16 +58,19 @@ public:
     Session& session() { return session_; }
     RenderService& renderService() { return *renderer_; }
     Viewport* viewport() { return viewport_; }
+    // Waits for the metrics and reference cache files in flight.
+    void waitForBackgroundWork();
     CompositorState& compositorState() { return state_; }
     const std::vector<ViewFrame>& frames() const { return frames_; }
-    // The last frame composed for the viewport.
-    const QImage& composedFrame() const { return composed_; }
+    // The frame of the current state, for exports and tests: waits for it if it is still being composed.
+    const QImage& composedFrame();
     // Every view's latest render is final and nothing is queued.
     bool settled() const;
 
     void setLayoutMode(Layout layout);
+    void setTonemap(Tonemap op);
     void selectView(int view);
-    void recompose();
+    void recompose();  // asks for a frame of the current state (composed off the GUI thread)
 
     // Snapshots (render slots): a copy of the current view's image with its parameters and exposure.
     struct Snapshot {
@@ -126,7 +133,7 @@ private:
     Viewport* viewport_ = nullptr;
     ParameterPanel* parameters_ = nullptr;
     QListWidget* viewList_ = nullptr;
-    QLabel* metrics_ = nullptr;
+    QTableWidget* metrics_ = nullptr;  // a row per view; cells change in place (no layout pass per image)
     CompositorState state_;
     std::vector<ViewFrame> frames_;
     std::vector<quint64> generation_, referenceGeneration_;
@@ -139,7 +146,12 @@ private:
     ScenePanel* scene_ = nullptr;
     QPointF lastMouse_;
     QTimer debounce_;
-    QImage composed_;
+    QImage composed_;  // the frame of the current state once composedFrame() waited for it, else the last shown
+    Composer* composer_ = nullptr;
+    QComboBox* tonemapCombo_ = nullptr;
+    bool composeQueued_ = false;
+    void requestCompose();  // hands the queued frame to the composer
+    QThreadPool* background_ = nullptr;  // metrics and reference cache writes
     quint64 nextGeneration_ = 1;
 
     PlotPanel* plots_ = nullptr;

@@ -106,7 +106,7 @@ void ConvergencePlot::redraw() {
         plot_->xAxis->setRange(1.0, 100.0);
         plot_->yAxis->setRange(1e-4, 1.0);
     }
-    plot_->replot();
+    plot_->replot(QCustomPlot::rpQueuedReplot);  // once per pass of the event loop
 }
 
 PdfPlot::PdfPlot(QWidget* parent) : Plot("pdf", parent) {
@@ -136,12 +136,12 @@ void PdfPlot::showProbe(const ProbeResult& result) {
     if (xMax > xMin) plot_->xAxis->setRange(xMin, xMax);
     plot_->yAxis->setRange(0.0, yMax > 0.0 ? yMax * 1.1 : 1.0);
     caption_->setText(QString::fromStdString(result.title));
-    plot_->replot();
+    plot_->replot(QCustomPlot::rpQueuedReplot);  // once per pass of the event loop
 }
 
 void PdfPlot::showMessage(const QString& message) {
     plot_->clearGraphs();
-    plot_->replot();
+    plot_->replot(QCustomPlot::rpQueuedReplot);  // once per pass of the event loop
     caption_->setText(message);
 }
 

@@ -1,12 +1,32 @@
 #include "render_service.h"
 
+#include "trace.h"
+
 #include "tyndall/error.h"
 
 #include <QMetaObject>
 
+#include <cerrno>
 #include <chrono>
 
+#ifdef __linux__
+#include <sys/resource.h>
+#include <unistd.h>
+#endif
+
 namespace tyndall::studio {
+
+void lowerCurrentThreadPriority(int nice) {
+#ifdef __linux__
+    // On Linux the nice value belongs to the thread (the task), not to the process.
+    const id_t self = id_t(gettid());
+    errno = 0;
+    const int current = getpriority(PRIO_PROCESS, self);
+    if (errno == 0 && current < nice) setpriority(PRIO_PROCESS, self, nice);
+#else
+    (void)nice;
+#endif
+}
 
 RenderService::RenderService(QObject* parent) : QObject(parent) {
     thread_ = std::thread([this] { run(); });
@@ -73,6 +93,9 @@ void RenderService::post(RenderOutput out) {
 
 void RenderService::run() {
     using Clock = std::chrono::steady_clock;
+    // Renders run below the GUI: an edit's frame is drawn and the window keeps answering while they compute. The
+    // renders themselves wait for nothing but the CPU, so their latency hardly changes (the GUI needs little of it).
+    lowerCurrentThreadPriority(10);
     for (;;) {
         std::shared_ptr<RenderTask> task;
         {
@@ -94,6 +117,7 @@ void RenderService::run() {
         out.reference = task->reference;
         out.generation = task->generation;
         const auto started = Clock::now();
+        trace("%s %d: worker starts", task->reference ? "reference" : "view", task->view);
         auto lastPost = started - std::chrono::hours(1);  // the first progressive image goes out at once
         RenderCallbacks callbacks;
         callbacks.cancel = &cancel_;
@@ -105,6 +129,7 @@ void RenderService::run() {
             partial.image = std::make_shared<Image>(image);
             partial.spp = spp;
             partial.seconds = std::chrono::duration<double>(Clock::now() - started).count();
+            trace("%s %d: image posted (%d spp)", task->reference ? "reference" : "view", task->view, spp);
             post(std::move(partial));
         };
         bool cancelled = false;

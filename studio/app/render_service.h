@@ -19,6 +19,12 @@
 
 namespace tyndall::studio {
 
+// Background work yields the CPU to the GUI thread (two cores here carry the GUI, lavapipe and the renders): raises
+// the calling thread's nice value to `nice` (Linux; a no-op elsewhere). Threads it starts later inherit it, so the
+// worker's TBB threads and the lavapipe threads of the renderer library's gpu::Context, which the worker creates, run
+// at the same lower priority. The display device's threads, which the GUI thread creates, keep the normal one.
+void lowerCurrentThreadPriority(int nice);
+
 struct RenderTask {
     int view = 0;
     bool reference = false;

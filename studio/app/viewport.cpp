@@ -1,5 +1,7 @@
 #include "viewport.h"
 
+#include "trace.h"
+
 #include "tyndall/gpu/shader_compiler.h"
 
 #include <QKeyEvent>
@@ -139,6 +141,7 @@ public:
         df_->vkCmdEndRenderPass(cmd);
         window_->countPresented();
         window_->frameReady();
+        trace("frame %d submitted", window_->framesPresented());
     }
 
 private:
@@ -265,7 +268,17 @@ private:
 
 }  // namespace
 
-Viewport::Viewport() = default;
+Viewport::Viewport() {
+    frameTimer_.setSingleShot(true);
+    connect(&frameTimer_, &QTimer::timeout, this, [this] { requestUpdate(); });
+    // QVulkanWindow always asks for FIFO presentation, which blocks the GUI thread until the next vertical blank: up
+    // to 16 ms per frame, for nothing, since the viewport draws only when its frame changed. Mesa's drivers (lavapipe
+    // here) take the mode from this variable when the swapchain is made. Immediate never blocks; mailbox would not tear
+    // either, but Mesa gives it 5 images and QVulkanWindow takes at most 3 (it fails to start). A software swapchain
+    // copies each whole image to the window, so tearing is not seen. The
+    // user's own setting wins; other drivers ignore it.
+    if (!qEnvironmentVariableIsSet("MESA_VK_WSI_PRESENT_MODE")) qputenv("MESA_VK_WSI_PRESENT_MODE", "immediate");
+}
 
 QVulkanWindowRenderer* Viewport::createRenderer() {
     return new ViewportRenderer(this);
@@ -273,7 +286,23 @@ QVulkanWindowRenderer* Viewport::createRenderer() {
 
 void Viewport::setFrame(const QImage& frame) {
     frame_ = frame;
-    requestUpdate();
+    // A software swapchain blocks the GUI thread for each frame (5-20 ms here); kMinFrameIntervalMs from the end of
+    // one frame to the start of the next let the event loop run between two of them. The newest frame is always the one drawn.
+    const qint64 since = sinceLastFrame_.isValid() ? sinceLastFrame_.elapsed() : kMinFrameIntervalMs;
+    if (since >= kMinFrameIntervalMs) {
+        requestUpdate();
+    } else if (!frameTimer_.isActive()) {
+        frameTimer_.start(int(kMinFrameIntervalMs - since));
+    }
+}
+
+void Viewport::countPresented() { ++presented_; }
+
+bool Viewport::event(QEvent* event) {
+    const bool result = QVulkanWindow::event(event);
+    // From the end of the frame's presentation (which is where it blocks), so that the next frame waits after it.
+    if (event->type() == QEvent::UpdateRequest) sinceLastFrame_.start();
+    return result;
 }
 
 QSize Viewport::pixelSize() const {

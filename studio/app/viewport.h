@@ -4,7 +4,9 @@
 // events reach the QWindow, not the widget tree, so it forwards them as signals.
 #pragma once
 
+#include <QElapsedTimer>
 #include <QImage>
+#include <QTimer>
 #include <QVulkanWindow>
 
 namespace tyndall::studio {
@@ -24,7 +26,7 @@ public:
     const QString& failure() const { return failure_; }
     void setFailure(const QString& failure) { failure_ = failure; }
     int framesPresented() const { return presented_; }
-    void countPresented() { ++presented_; }
+    void countPresented();
 
 signals:
     void resized(QSize pixels);
@@ -36,6 +38,7 @@ signals:
     void wheelTurned(double steps);  // + away from the user (dolly in)
 
 protected:
+    bool event(QEvent* event) override;
     void resizeEvent(QResizeEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
     void keyReleaseEvent(QKeyEvent* event) override;
@@ -48,6 +51,9 @@ private:
     QImage frame_;
     QString failure_;
     int presented_ = 0;
+    static constexpr qint64 kMinFrameIntervalMs = 12;
+    QElapsedTimer sinceLastFrame_;
+    QTimer frameTimer_;
 };
 
 }  // namespace tyndall::studio

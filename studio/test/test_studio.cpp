@@ -13,6 +13,7 @@
 #include <QFileInfo>
 #include <QStandardPaths>
 #include <QMessageBox>
+#include <QTableWidget>
 #include <QTest>
 #include <QThreadPool>
 #include <QTimer>
@@ -68,6 +69,8 @@ public:
 
 private slots:
     void initTestCase() {
+        // Autosaves left by an earlier run that was killed would ask to be recovered (a modal dialog): start without.
+        QDir(QStandardPaths::writableLocation(QStandardPaths::AppDataLocation) + "/autosave").removeRecursively();
         window_ = std::make_unique<MainWindow>(vulkan_, kSmall);
         window_->show();
         QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
@@ -88,6 +91,15 @@ private slots:
         }
         QCOMPARE(frames[1].technique, QString("WVDS box"));
         QVERIFY(window_->windowTitle().contains("Foggy room"));
+        // The metrics dock: a row per view, named after it, with the numbers of its metrics.
+        auto* table = window_->findChild<QTableWidget*>("metrics");
+        QVERIFY(table);
+        QTRY_COMPARE(table->rowCount(), int(frames.size()));
+        for (int row = 0; row < table->rowCount(); ++row) {
+            QCOMPARE(table->verticalHeaderItem(row)->text(), frames[std::size_t(row)].name);
+            QCOMPARE(table->item(row, 0)->text(), QString::number(frames[std::size_t(row)].metrics->relMSE, 'g', 3));
+            QCOMPARE(table->item(row, 1)->text(), QString::number(frames[std::size_t(row)].metrics->psnr, 'g', 4));
+        }
         QTRY_VERIFY(window_->viewport()->framesPresented() > 0);
         window_->recompose();
         QVERIFY(distinctColours(window_->composedFrame()) > 50);
@@ -113,7 +125,7 @@ private slots:
     void cachesFinishedReferencesOnDisk() {
         for (const ViewFrame& f : window_->frames())
             QVERIFY(!f.referenceCached);  // the first studio rendered them (the cache was empty)
-        QThreadPool::globalInstance()->waitForDone();  // the cache files are written in the thread pool
+        window_->waitForBackgroundWork();  // the cache files are written in a thread pool
         MainWindow second(vulkan_, kSmall);
         second.setRecovery(MainWindow::Recovery::Never);
         QVERIFY(second.openProject(kDefaultProject, false));
@@ -123,6 +135,59 @@ private slots:
             QVERIFY2(f.referenceCached, qPrintable(f.name));
             QVERIFY(samePixels(*f.reference, *window_->frames()[i].reference));
         }
+    }
+
+    // The tonemap operator (toolbar combo, M cycles) changes every view's display: what the viewport shows at a pixel
+    // is tonemapRgb() of the view's image there, for each operator, and false colour adds its colour bar.
+    void tonemapsTheViewport() {
+        window_->setLayoutMode(Layout::Single);
+        window_->selectView(0);
+        auto* combo = window_->findChild<QComboBox*>("tonemap");
+        QVERIFY(combo);
+        QCOMPARE(combo->count(), int(tonemapNames().size()));
+        const ViewFrame& f = window_->frames()[0];
+        const std::vector<QRect> rects = viewRects(window_->frames(), window_->compositorState(),
+                                                   window_->composedFrame().size());
+        const QPoint at = rects[0].center();
+        int view = -1;
+        QPoint pixel;
+        QVERIFY(window_->viewAt(at, view, pixel));
+        QCOMPARE(view, 0);
+        std::vector<QImage> frames;
+        for (int op = 0; op < combo->count(); ++op) {
+            combo->setCurrentIndex(op);
+            QCOMPARE(int(window_->compositorState().tonemap), op);
+            const QImage frame = window_->composedFrame();
+            const QColor shown = frame.pixelColor(at);
+            // The nearest-neighbour scaling may land on a neighbour of the pixel viewAt() names.
+            bool found = false;
+            for (int dy = -1; dy <= 1 && !found; ++dy)
+                for (int dx = -1; dx <= 1 && !found; ++dx) {
+                    const int x = std::clamp(pixel.x() + dx, 0, f.image->width() - 1);
+                    const int y = std::clamp(pixel.y() + dy, 0, f.image->height() - 1);
+                    const auto d = tonemapRgb(f.image->at(x, y, 0), f.image->at(x, y, 1), f.image->at(x, y, 2),
+                                              f.exposure + window_->compositorState().exposureOffset, Tonemap(op));
+                    found = std::abs(shown.red() - int(std::lround(d[0] * 255.0f))) <= 1 &&
+                            std::abs(shown.green() - int(std::lround(d[1] * 255.0f))) <= 1 &&
+                            std::abs(shown.blue() - int(std::lround(d[2] * 255.0f))) <= 1;
+                }
+            QVERIFY2(found, qPrintable(QString("operator %1 shows %2").arg(op).arg(shown.name())));
+            frames.push_back(frame);
+        }
+        for (std::size_t i = 0; i < frames.size(); ++i)
+            for (std::size_t j = i + 1; j < frames.size(); ++j) QVERIFY(frames[i] != frames[j]);
+        // False colour draws the viridis bar at the bottom right: its left end is viridis(0), dark purple.
+        const QImage falseColour = frames.back();
+        const int barWidth = std::min(256, falseColour.width() / 3);
+        const QColor left = falseColour.pixelColor(falseColour.width() - barWidth - 12 + 1, falseColour.height() - 25);
+        QVERIFY2(left.red() > 50 && left.red() < 90 && left.green() < 20 && left.blue() > 60, qPrintable(left.name()));
+        // M (an application-wide shortcut, here typed in the viewport) cycles from false colour back to sRGB, and the
+        // combo follows.
+        QTest::keyClick(window_->viewport(), Qt::Key_M);
+        QCOMPARE(window_->compositorState().tonemap, Tonemap::Srgb);
+        QCOMPARE(combo->currentIndex(), 0);
+        QCOMPARE(window_->composedFrame(), frames.front());
+        window_->setLayoutMode(Layout::Grid);
     }
 
     // Grid shows every view; single shows one (keys 1-9 select it, from the viewport), holding Shift shows its
