@@ -163,31 +163,41 @@ glm::vec3 pixelValue(const glm::vec4* a0, const glm::vec4* a1, int ratioLights, 
     return value;
 }
 
-// R, G, B and the variance of each pixel's mean from its two halves, (A - B)^2 / 4, as the reference writes it.
-Image resolve(const std::vector<glm::vec4>& acc, const Layout& layout, long& nonFinitePixels) {
+// R, G, B and the variance of each pixel's mean from its two halves, (A - B)^2 / 4, as the reference writes it. Rows in
+// parallel: this runs after every progressive pass, so it is on the way from an edit to its first image.
+Image resolve(const std::vector<glm::vec4>& acc, const Layout& layout, int threads, long& nonFinitePixels) {
     Image image(layout.width, layout.height, {"R", "G", "B", "variance.R", "variance.G", "variance.B"});
-    nonFinitePixels = 0;
-    for (int y = 0; y < layout.height; ++y) {
-        for (int x = 0; x < layout.width; ++x) {
-            const std::size_t pixel = std::size_t(y) * layout.width + x;
-            const glm::vec4* a0 = &acc[(pixel * 2) * layout.stride];
-            const glm::vec4* a1 = &acc[(pixel * 2 + 1) * layout.stride];
-            glm::vec3 v = pixelValue(a0, a1, layout.ratioLights, 2);
-            glm::vec3 variance(0.0f);
-            if (a0[0].w > 0.0f && a1[0].w > 0.0f) {
-                const glm::vec3 d = pixelValue(a0, a1, layout.ratioLights, 0) - pixelValue(a0, a1, layout.ratioLights, 1);
-                variance = d * d * 0.25f;
+    std::atomic<long> nonFinite{0};
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, layout.height, 8), [&](const tbb::blocked_range<int>& rows) {
+            long bad = 0;
+            for (int y = rows.begin(); y < rows.end(); ++y) {
+                for (int x = 0; x < layout.width; ++x) {
+                    const std::size_t pixel = std::size_t(y) * layout.width + x;
+                    const glm::vec4* a0 = &acc[(pixel * 2) * layout.stride];
+                    const glm::vec4* a1 = &acc[(pixel * 2 + 1) * layout.stride];
+                    glm::vec3 v = pixelValue(a0, a1, layout.ratioLights, 2);
+                    glm::vec3 variance(0.0f);
+                    if (a0[0].w > 0.0f && a1[0].w > 0.0f) {
+                        const glm::vec3 d =
+                            pixelValue(a0, a1, layout.ratioLights, 0) - pixelValue(a0, a1, layout.ratioLights, 1);
+                        variance = d * d * 0.25f;
+                    }
+                    if (!std::isfinite(v.x + v.y + v.z + variance.x + variance.y + variance.z)) {
+                        ++bad;
+                        v = variance = glm::vec3(0.0f);
+                    }
+                    for (int c = 0; c < 3; ++c) {
+                        image.at(x, y, c) = v[c];
+                        image.at(x, y, 3 + c) = variance[c];
+                    }
+                }
             }
-            if (!std::isfinite(v.x + v.y + v.z + variance.x + variance.y + variance.z)) {
-                ++nonFinitePixels;
-                v = variance = glm::vec3(0.0f);
-            }
-            for (int c = 0; c < 3; ++c) {
-                image.at(x, y, c) = v[c];
-                image.at(x, y, 3 + c) = variance[c];
-            }
-        }
-    }
+            nonFinite.fetch_add(bad, std::memory_order_relaxed);
+        });
+    });
+    nonFinitePixels = nonFinite.load();
     return image;
 }
 
@@ -242,7 +252,7 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
                           pass, nonFiniteSamples);
         }
         done += passSize;
-        result.image = resolve(acc, layout, nonFinitePixels);
+        result.image = resolve(acc, layout, request.threads, nonFinitePixels);
         if (callbacks.progress) callbacks.progress(double(done) / spp);
         if (callbacks.intermediate && done < spp) callbacks.intermediate(result.image, done);
         const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();

@@ -49,6 +49,7 @@ namespace {
 
 // References restart this long after the last edit of their part.
 constexpr int kDebounceMs = 300;
+constexpr qint64 kEditQuietMs = 150;
 
 // What a view's render depends on in the scene: the camera, the surfaces and its part's lights and media, as JSON.
 std::string partKeyOf(const Project& project, const View& view) {
@@ -195,16 +196,21 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     });
     connect(&session_, &Session::viewChanged, this, [this](int view) {
         trace("edit of view %d", view);
+        noteEdit();
         const View& v = session_.project().views[std::size_t(view)];
+        // The metrics of the image shown depend on the exposure (PSNR), not on the parameters: a parameter edit
+        // leaves them to its own image, instead of recomputing the old one's while the new one renders.
+        const bool exposureChanged = frames_[std::size_t(view)].exposure != v.exposure;
         frames_[std::size_t(view)].exposure = v.exposure;
         viewKeys_[std::size_t(view)] = v.parameters.dump() + "/" + std::to_string(v.exposure);
-        updateMetrics(view);
+        if (exposureChanged) updateMetrics(view);
         dirtyViews_.insert(view);
         flushDirty();
         recompose();
     });
     connect(&session_, &Session::modifiedChanged, this, [this](bool) { updateTitle(); });
     connect(&session_, &Session::sceneChanged, this, [this] {
+        noteEdit();
         // Only views whose part of the scene changed render again, with their references; views whose parameters
         // changed (a whole project replaced: recovery, or its undo) render again alone.
         for (int i = 0; i < int(frames_.size()); ++i) {
@@ -549,7 +555,7 @@ void MainWindow::renderView(int view, bool reference) {
         // removed and the reference rendered after all.
         renderer_->cancelReference(view);
         background_->start([this, task, cached] {
-            lowerCurrentThreadPriority(5);
+            lowerCurrentThreadPriority(10);  // the pool's threads keep the nice value they were given
             RenderOutput out;
             out.view = task.view;
             out.reference = true;
@@ -641,7 +647,7 @@ void MainWindow::onOutput(const RenderOutput& out) {
             const std::shared_ptr<const Image> image = out.image;
             const std::string file = path->second.toStdString();
             background_->start([image, file] {
-                lowerCurrentThreadPriority(5);  // as the metrics (the pool's threads keep what they were given)
+                lowerCurrentThreadPriority(10);  // as the renders (the pool's threads keep what they were given)
                 try {
                     writeImage(*image, file);
                 } catch (const std::exception&) {
@@ -671,6 +677,7 @@ void MainWindow::onOutput(const RenderOutput& out) {
     updateConvergence();
     updateMetricsDock();
     recompose();
+    if (!out.reference) requestCompose(true);  // a new image is shown at once, even right after an edit
 }
 
 void MainWindow::updateMetrics(int view) {
@@ -685,7 +692,9 @@ void MainWindow::updateMetrics(int view) {
     const QRect region = state_.region.intersected(QRect(0, 0, image->width(), image->height()));
     ++metricsPending_;
     background_->start([this, view, image, against, exposure, region] {
-        lowerCurrentThreadPriority(5);  // below the GUI, above the renders: the numbers follow their images
+        // Below the GUI and no higher than the renders, which the edit is waiting for (at nice 5, the metrics of each
+        // progressive image took the CPU from the next pass).
+        lowerCurrentThreadPriority(10);
         std::optional<Metrics> whole, part;
         try {
             whole = computeMetrics(*image, *against, exposure);
@@ -767,15 +776,25 @@ void MainWindow::updateMetricsDock() {
 }
 
 void MainWindow::recompose() {
-    // Once per pass of the event loop, however many changes it brought (an edit resets metrics, marks the view as
-    // rendering and moves the panels, each asking for a frame).
+    // Once per pass of the event loop, however many changes it brought. Right after an edit, the frame that would only
+    // mark the view as rendering waits up to kEditQuietMs: if the new image comes first (the analytic techniques take
+    // ~100 ms), that frame is never composed nor presented, and the two cores go to the render.
     if (composeQueued_) return;
     composeQueued_ = true;
-    QTimer::singleShot(0, this, [this] { requestCompose(); });
+    const qint64 wait = editClock_.isValid() ? std::max<qint64>(0, kEditQuietMs - editClock_.elapsed()) : 0;
+    QTimer::singleShot(int(wait), this, [this] { requestCompose(); });
 }
 
-void MainWindow::requestCompose() {
+void MainWindow::noteEdit() { editClock_.start(); }
+
+void MainWindow::requestCompose(bool now) {
     if (!composeQueued_) return;
+    // A frame asked for before the edit (a metrics result, say) waits for the quiet period too.
+    const qint64 wait = editClock_.isValid() ? kEditQuietMs - editClock_.elapsed() : 0;
+    if (!now && wait > 0) {
+        QTimer::singleShot(int(wait), this, [this] { requestCompose(); });
+        return;
+    }
     composeQueued_ = false;
     const QSize size = viewport_->pixelSize().expandedTo(QSize(64, 48));
     composer_->request(frames_, state_, size);
@@ -784,7 +803,7 @@ void MainWindow::requestCompose() {
 void MainWindow::waitForBackgroundWork() { background_->waitForDone(); }
 
 const QImage& MainWindow::composedFrame() {
-    requestCompose();
+    requestCompose(true);
     composed_ = composer_->wait();
     return composed_;
 }

@@ -12,6 +12,7 @@
 #include "composer.h"
 #include "viewport.h"
 
+#include <QElapsedTimer>
 #include <QMainWindow>
 #include <QTimer>
 
@@ -150,7 +151,9 @@ private:
     Composer* composer_ = nullptr;
     QComboBox* tonemapCombo_ = nullptr;
     bool composeQueued_ = false;
-    void requestCompose();  // hands the queued frame to the composer
+    QElapsedTimer editClock_;  // since the last edit
+    void noteEdit();
+    void requestCompose(bool now = false);  // hands the queued frame to the composer (now: even right after an edit)
     QThreadPool* background_ = nullptr;  // metrics and reference cache writes
     quint64 nextGeneration_ = 1;
 

@@ -1,5 +1,5 @@
 // The studio's responsiveness, measured in a real window (run under xvfb-run with QT_QPA_PLATFORM=xcb):
-//   xvfb-run -a -s "-screen 0 1600x1000x24" build/studio/bench/tyndall_studio_latency
+//   xvfb-run -a -s "-screen 0 1600x1000x24" build/studio/bench/tyndall_studio_latency [--stalls | --edit VIEW]
 // - time from a parameter change to the first frame on screen that shows the updated technique view at 512 x 512 (its
 //   first progressive pass) and to its final image, per technique (the median of 5 edits, after the project has settled; references at
 //   4 spp so that they settle quickly);
@@ -166,11 +166,14 @@ int main(int argc, char** argv) {
                           {"/projects/examples/wvds-box.json", "mcwvds", "shadows"},
                           {"/projects/default.json", "light shaft", "shadows"},
                           {"/projects/examples/pegoraro-street.json", "closed form", "shadows"}};
-    // --stalls: only the drag and the refinement (the edits take ~5 minutes).
-    const bool stallsOnly = argc > 1 && std::string(argv[1]) == "--stalls";
+    // --stalls: only the drag and the refinement (the edits take ~5 minutes); --edit VIEW: only the edit of that view,
+    // then stop.
+    const std::string option = argc > 1 ? argv[1] : "", only = argc > 2 ? argv[2] : "";
+    const bool stallsOnly = option == "--stalls";
     if (!stallsOnly) std::printf("medians of 5 edits at 512 x 512\n");
     for (const Edit& e : edits) {
         if (stallsOnly) break;
+        if (option == "--edit" && only != e.view) continue;
         MainWindow window(&vulkan, k512);
         window.setRecovery(MainWindow::Recovery::Never);
         window.show();
@@ -214,6 +217,7 @@ int main(int argc, char** argv) {
         std::fflush(stdout);
     }
 
+    if (option == "--edit") return 0;
     // A slider dragged over the WVDS view for 3 s, and the references of the default project refining.
     MainWindow window(&vulkan, k512);
     window.setRecovery(MainWindow::Recovery::Never);
