@@ -111,9 +111,9 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
 
     auto* metricsDock = new QDockWidget("Metrics", this);
     metricsDock->setObjectName("metricsDock");
-    metrics_ = new QTableWidget(0, 6);
+    metrics_ = new QTableWidget(0, 5);
     metrics_->setObjectName("metrics");
-    metrics_->setHorizontalHeaderLabels({"relMSE", "PSNR", "ref. noise", "bias %", "region relMSE", ""});
+    metrics_->setHorizontalHeaderLabels({"relMSE", "PSNR", "ref. noise", "bias %", "region relMSE"});
     metrics_->horizontalHeaderItem(0)->setToolTip("relative MSE of the view against its reference");
     metrics_->horizontalHeaderItem(2)->setToolTip(
         "relMSE of the reference's own noise (from its variance): a view's relMSE near it is noise, above it is bias");
@@ -402,9 +402,8 @@ void MainWindow::buildMenus() {
     for (const std::string& name : tonemapNames()) tonemapCombo_->addItem(QString::fromStdString(name));
     connect(tonemapCombo_, &QComboBox::currentIndexChanged, this, [this](int i) { setTonemap(Tonemap(i)); });
     toolbar->addWidget(tonemapCombo_);
-    QAction* cycleTonemap = view->addAction("Cycle &tonemap operator (sRGB, Reinhard, ACES, false colour)", this, [this] {
-        setTonemap(Tonemap((int(state_.tonemap) + 1) % int(tonemapNames().size())));
-    });
+    QAction* cycleTonemap = view->addAction("Cycle &tonemap operator (sRGB, Reinhard, ACES, false colour)", this,
+                                            [this] { onKey(Qt::Key_M, Qt::NoModifier, true); });
     cycleTonemap->setShortcut(QKeySequence("M"));
     cycleTonemap->setShortcutContext(Qt::ApplicationShortcut);
     for (QAction* a : {undo, redo, save, open, saveAs}) a->setShortcutContext(Qt::ApplicationShortcut);
@@ -554,8 +553,7 @@ void MainWindow::renderView(int view, bool reference) {
         // Read in the background (an EXR of 512 x 512 takes ~10 ms, more while renders run); an unreadable file is
         // removed and the reference rendered after all.
         renderer_->cancelReference(view);
-        background_->start([this, task, cached] {
-            lowerCurrentThreadPriority(10);  // the pool's threads keep the nice value they were given
+        inBackground([this, task, cached] {
             RenderOutput out;
             out.view = task.view;
             out.reference = true;
@@ -646,8 +644,7 @@ void MainWindow::onOutput(const RenderOutput& out) {
             QDir().mkpath(referenceCacheFolder());
             const std::shared_ptr<const Image> image = out.image;
             const std::string file = path->second.toStdString();
-            background_->start([image, file] {
-                lowerCurrentThreadPriority(10);  // as the renders (the pool's threads keep what they were given)
+            inBackground([image, file] {
                 try {
                     writeImage(*image, file);
                 } catch (const std::exception&) {
@@ -691,10 +688,7 @@ void MainWindow::updateMetrics(int view) {
     const double exposure = f.exposure;
     const QRect region = state_.region.intersected(QRect(0, 0, image->width(), image->height()));
     ++metricsPending_;
-    background_->start([this, view, image, against, exposure, region] {
-        // Below the GUI and no higher than the renders, which the edit is waiting for (at nice 5, the metrics of each
-        // progressive image took the CPU from the next pass).
-        lowerCurrentThreadPriority(10);
+    inBackground([this, view, image, against, exposure, region] {
         std::optional<Metrics> whole, part;
         try {
             whole = computeMetrics(*image, *against, exposure);
@@ -781,15 +775,14 @@ void MainWindow::recompose() {
     // ~100 ms), that frame is never composed nor presented, and the two cores go to the render.
     if (composeQueued_) return;
     composeQueued_ = true;
-    const qint64 wait = editClock_.isValid() ? std::max<qint64>(0, kEditQuietMs - editClock_.elapsed()) : 0;
-    QTimer::singleShot(int(wait), this, [this] { requestCompose(); });
+    QTimer::singleShot(0, this, [this] { requestCompose(); });
 }
 
 void MainWindow::noteEdit() { editClock_.start(); }
 
 void MainWindow::requestCompose(bool now) {
     if (!composeQueued_) return;
-    // A frame asked for before the edit (a metrics result, say) waits for the quiet period too.
+    // Within kEditQuietMs of an edit the frame waits for the rest of it (also one asked for just before the edit).
     const qint64 wait = editClock_.isValid() ? kEditQuietMs - editClock_.elapsed() : 0;
     if (!now && wait > 0) {
         QTimer::singleShot(int(wait), this, [this] { requestCompose(); });
@@ -801,6 +794,15 @@ void MainWindow::requestCompose(bool now) {
 }
 
 void MainWindow::waitForBackgroundWork() { background_->waitForDone(); }
+
+void MainWindow::inBackground(std::function<void()> work) {
+    background_->start([work = std::move(work)] {
+        // Below the GUI and no higher than the renders, which an edit is waiting for (at nice 5, the metrics of each
+        // progressive image took the CPU from the next pass). The pool's threads keep the value.
+        lowerCurrentThreadPriority(10);
+        work();
+    });
+}
 
 const QImage& MainWindow::composedFrame() {
     requestCompose(true);

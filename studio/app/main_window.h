@@ -12,6 +12,8 @@
 #include "composer.h"
 #include "viewport.h"
 
+#include <functional>
+
 #include <QElapsedTimer>
 #include <QMainWindow>
 #include <QTimer>
@@ -154,7 +156,8 @@ private:
     QElapsedTimer editClock_;  // since the last edit
     void noteEdit();
     void requestCompose(bool now = false);  // hands the queued frame to the composer (now: even right after an edit)
-    QThreadPool* background_ = nullptr;  // metrics and reference cache writes
+    QThreadPool* background_ = nullptr;  // metrics and reference cache reads and writes
+    void inBackground(std::function<void()> work);  // in background_, at the renders' priority
     quint64 nextGeneration_ = 1;
 
     PlotPanel* plots_ = nullptr;

@@ -275,8 +275,8 @@ Viewport::Viewport() {
     // to 16 ms per frame, for nothing, since the viewport draws only when its frame changed. Mesa's drivers (lavapipe
     // here) take the mode from this variable when the swapchain is made. Immediate never blocks; mailbox would not tear
     // either, but Mesa gives it 5 images and QVulkanWindow takes at most 3 (it fails to start). A software swapchain
-    // copies each whole image to the window, so tearing is not seen. The
-    // user's own setting wins; other drivers ignore it.
+    // copies each whole image to the window, so tearing is not seen. The user's own setting wins; other drivers
+    // ignore it.
     if (!qEnvironmentVariableIsSet("MESA_VK_WSI_PRESENT_MODE")) qputenv("MESA_VK_WSI_PRESENT_MODE", "immediate");
 }
 

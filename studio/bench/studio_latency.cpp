@@ -54,13 +54,12 @@ public:
         clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
         if (ms > 1.0) log_.push_back({eventStartOf(wall), double(wall_.nsecsElapsed()) * 1e-6, type, name,
                                       double(c1.tv_sec - c0.tv_sec) * 1e3 + double(c1.tv_nsec - c0.tv_nsec) * 1e-6});
-        if (ms > 15.0 && depth_ == 0)
+        if (ms > 15.0)
             std::fprintf(stderr, "event %4d to %-28s %6.1f ms wall, %6.1f ms CPU\n", type, name, ms,
                          double(c1.tv_sec - c0.tv_sec) * 1e3 + double(c1.tv_nsec - c0.tv_nsec) * 1e-6);
         return result;
     }
     bool trace_ = qEnvironmentVariableIsSet("TYNDALL_TRACE_EVENTS");
-    int depth_ = 0;
     // A watchdog prints what the GUI thread is blocked in (its system call and kernel wait channel) when one event
     // has run for 30 ms.
     void startWatchdog() {
