@@ -32,10 +32,10 @@ std::string shaderPath() {
 
 GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
 
-gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, bool box, int phaseKind) {
+gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, bool box, int phaseKind, int lightCount) {
     const int maxPlanes = planeCount <= 6 ? 6 : planeCount <= 8 ? 8 : shader::kWvdsMaxPlanes;
-    const std::string key = std::to_string(estimator) + "-" + (box ? std::string("box") : std::to_string(maxPlanes)) +
-                            "-" + std::to_string(phaseKind);
+    const std::string key = std::to_string(estimator) + "-" + (box ? std::string("box") : std::to_string(planeCount)) +
+                            "-" + std::to_string(phaseKind) + "-" + std::to_string(lightCount);
     auto it = kernels_.find(key);
     if (it != kernels_.end()) return *it->second;
     const auto start = std::chrono::steady_clock::now();
@@ -45,7 +45,9 @@ gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, bool box,
     text << file.rdbuf();
     std::string source = text.str();
     std::string defines = "#define TY_WVDS_ESTIMATOR " + std::to_string(estimator) + "\n#define TY_WVDS_MAX_PLANES " +
-                          std::to_string(maxPlanes) + "\n#define TY_PHASE_KIND " + std::to_string(phaseKind) + "\n";
+                          std::to_string(maxPlanes) + "\n#define TY_PHASE_KIND " + std::to_string(phaseKind) +
+                          "\n#define TY_WVDS_LIGHTS " + std::to_string(lightCount) + "\n#define TY_WVDS_PLANES " +
+                          std::to_string(planeCount) + "\n";
     if (box) defines += "#define TY_WVDS_BOX\n";
     if (context_->device().shaderFloat64) defines += "#define TY_BVH_WORDS\n";
     source.insert(source.find('\n') + 1, defines + "#line 2\n");
@@ -59,7 +61,8 @@ gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, bool box,
 
 void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int stride, int ratioLights) {
     compileSeconds_ = 0.0;
-    kernel_ = &kernel(scene.frame.estimator, scene.frame.planeCount, scene.box, scene.frame.phase.kind);
+    kernel_ = &kernel(scene.frame.estimator, scene.frame.planeCount, scene.box, scene.frame.phase.kind,
+                      scene.frame.lightCount);
     gpu::Context& ctx = *context_;
     auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
     buffers_.clear();

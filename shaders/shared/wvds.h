@@ -45,22 +45,33 @@ vec4 wvdsPlane(int i);  // supplied by the includer (see above)
 
 TY_END
 
+// The series in wvds_impl.h stop where their next term is below the precision's roundoff: phi's to x^k / (k + 1)! for
+// x < 1/2 (float: k = 7, 1e-8 relative; double: k = 12, 1e-15), log(1 - y)'s to y^k / k for y < 1/16 (float: k = 7,
+// 5e-10; double: k = 14, 5e-19).
 #define TY_R float
 #define TY_R3 vec3
 #define TY_RS(name) name##_float
+#define TY_WVDS_PHI_TERMS 8
+#define TY_WVDS_LOG_TERMS 7
 #include "wvds_impl.h"
 #undef TY_R
 #undef TY_R3
 #undef TY_RS
+#undef TY_WVDS_PHI_TERMS
+#undef TY_WVDS_LOG_TERMS
 
 #ifdef TY_HAS_DOUBLE
 #define TY_R double
 #define TY_R3 dvec3
 #define TY_RS(name) name##_double
+#define TY_WVDS_PHI_TERMS 13
+#define TY_WVDS_LOG_TERMS 14
 #include "wvds_impl.h"
 #undef TY_R
 #undef TY_R3
 #undef TY_RS
+#undef TY_WVDS_PHI_TERMS
+#undef TY_WVDS_LOG_TERMS
 #endif
 
 #endif  // TY_SHARED_WVDS_H

@@ -5,23 +5,23 @@
 TY_BEGIN
 
 // (1 - e^-x) / x for x >= 0, without the cancellation of the direct form near 0: below 1/2 its Taylor series
-// sum_k (-x)^k / (k + 1)!, to k = 12 (good to 1e-12 relative), by Horner's rule with constant reciprocals.
+// sum_k (-x)^k / (k + 1)!, to k = TY_WVDS_PHI_TERMS - 1 (wvds.h), by Horner's rule with constant reciprocals.
 TY_FUNC TY_R TY_RS(wvdsPhi)(TY_R x) {
     if (x < TY_R(0.5f)) {
         TY_R sum = TY_R(1.0f);
-        for (int k = 13; k >= 2; --k)
+        for (int k = TY_WVDS_PHI_TERMS; k >= 2; --k)
             sum = TY_R(1.0f) - x * sum * (TY_R(1.0f) / TY_R(float(k)));
         return sum;
     }
     return (TY_R(1.0f) - realExp(-x)) / x;
 }
 
-// log(q) for q = 1 - y in (0, 1], given both: the series -sum_k y^k / k (to k = 14, by Horner's rule) where y is small
-// (where 1 - y would round), else the logarithm.
+// log(q) for q = 1 - y in (0, 1], given both: the series -sum_k y^k / k (to k = TY_WVDS_LOG_TERMS, by Horner's rule)
+// where y is small (where 1 - y would round), else the logarithm.
 TY_FUNC TY_R TY_RS(wvdsLogOneMinus)(TY_R y, TY_R q) {
     if (y < TY_R(0.0625f)) {
         TY_R sum = TY_R(0.0f);
-        for (int k = 14; k >= 1; --k)
+        for (int k = TY_WVDS_LOG_TERMS; k >= 1; --k)
             sum = y * (TY_R(1.0f) / TY_R(float(k)) + sum);
         return -sum;
     }
@@ -30,11 +30,12 @@ TY_FUNC TY_R TY_RS(wvdsLogOneMinus)(TY_R y, TY_R q) {
 
 // Eq. 6, WVDS paper (001): integral over s in [0, len] of e^{-sigma (p0 + c s)}, the transmittance of one trapezoid
 // segment; written with phi so that the small-slope limit (c -> 0) and negative slopes need no special case and
-// nothing overflows: the exponential is taken at the end where the path is shortest.
+// nothing overflows: the exponential is taken at the end where the path is shortest. One exponential and one phi
+// whatever the sign (a SIMD device such as lavapipe would otherwise evaluate both branches).
 TY_FUNC TY_R TY_RS(wvdsPieceIntegral)(TY_R sigma, TY_R p0, TY_R c, TY_R len) {
     TY_R x = sigma * c * len;
-    if (x >= TY_R(0.0f)) return realExp(-sigma * p0) * len * TY_RS(wvdsPhi)(x);
-    return realExp(-sigma * (p0 + c * len)) * len * TY_RS(wvdsPhi)(-x);
+    TY_R shortest = x >= TY_R(0.0f) ? p0 : p0 + c * len;
+    return realExp(-sigma * shortest) * len * TY_RS(wvdsPhi)(abs(x));
 }
 
 // Sec. 5.1: the offset s in [0, len] with density proportional to e^{-sigma c s}, by inversion of its CDF at u. A
@@ -64,30 +65,108 @@ struct TY_RS(WvdsPieces) {
     TY_R c[kWvdsMaxSegments];    // dP/dt on the piece: the paper's slope c = 1 + (d_E,E - d_E,S) / (t_C,E - t_C,S)
 };
 
+// Where line j (slope betaJ <= betaI) drops below line i, as t grows: a crossing, or +-kInfinity for parallel lines
+// (never, when line i is the lower or they coincide; always, when line j is the lower).
+TY_FUNC TY_R TY_RS(wvdsCrossing)(TY_R alphaI, TY_R betaI, TY_R alphaJ, TY_R betaJ) {
+    TY_R slopes = betaI - betaJ;
+    TY_R parallel = alphaI <= alphaJ ? TY_R(kInfinity) : -TY_R(kInfinity);
+    return slopes > TY_R(0.0f) ? (alphaJ - alphaI) / slopes : parallel;
+}
+
+// Orders lines i and j by decreasing slope (the order in which a lower envelope meets them as t grows).
+TY_FUNC void TY_RS(wvdsOrderLines)(TY_INOUT(TY_R) alphaI, TY_INOUT(TY_R) betaI, TY_INOUT(TY_R) alphaJ,
+                                   TY_INOUT(TY_R) betaJ) {
+    bool swap = betaJ > betaI;
+    TY_R alpha = alphaI, beta = betaI;
+    alphaI = swap ? alphaJ : alphaI;
+    betaI = swap ? betaJ : betaI;
+    alphaJ = swap ? alpha : alphaJ;
+    betaJ = swap ? beta : betaJ;
+}
+
+// Piece k of the pieces: t in [t0, t1] on the line alpha + beta t (docs/wvds.md).
+TY_FUNC void TY_RS(wvdsSetPiece)(TY_INOUT(TY_RS(WvdsPieces)) pieces, int k, TY_R tIn, TY_R t0, TY_R t1, TY_R alpha,
+                                 TY_R beta) {
+    pieces.t0[k] = t0;
+    pieces.len[k] = t1 - t0;
+    pieces.p0[k] = t0 - tIn + max(alpha + beta * t0, TY_R(0.0f));
+    pieces.c[k] = TY_R(1.0f) + beta;
+}
+
+// The lower envelope of three lines alpha_i + beta_i t over [a, b] in closed form, with no loop and no branch (what a
+// box needs: one face per pair of opposite faces can be left towards the light). Sorted by decreasing slope, the lines
+// L1, L2, L3 are met in that order; L2 is on the envelope exactly when L1 -> L2 comes before L2 -> L3, else the
+// envelope goes from L1 to L3 directly. Always three pieces, some of them possibly empty (len = 0), each on its line, so
+// that sums, samples and path lengths over them equal those over the non-empty pieces. Lines that do not count are
+// alpha = kInfinity, beta = 0, as in wvdsPieces.
+TY_FUNC int TY_RS(wvdsEnvelope3)(TY_R3 alpha, TY_R3 beta, TY_R tIn, TY_R a, TY_R b,
+                                 TY_OUT(TY_RS(WvdsPieces)) pieces) {
+    TY_R a1 = alpha.x, b1 = beta.x, a2 = alpha.y, b2 = beta.y, a3 = alpha.z, b3 = beta.z;
+    TY_RS(wvdsOrderLines)(a1, b1, a2, b2);
+    TY_RS(wvdsOrderLines)(a2, b2, a3, b3);
+    TY_RS(wvdsOrderLines)(a1, b1, a2, b2);
+    TY_R t12 = TY_RS(wvdsCrossing)(a1, b1, a2, b2);
+    TY_R t23 = TY_RS(wvdsCrossing)(a2, b2, a3, b3);
+    TY_R t13 = TY_RS(wvdsCrossing)(a1, b1, a3, b3);
+    bool middle = t12 < t23;
+    TY_R u1 = clamp(middle ? t12 : t13, a, b);
+    TY_R u2 = clamp(middle ? t23 : t13, a, b);
+    TY_RS(wvdsSetPiece)(pieces, 0, tIn, a, u1, a1, b1);
+    TY_RS(wvdsSetPiece)(pieces, 1, tIn, u1, u2, middle ? a2 : a3, middle ? b2 : b3);
+    TY_RS(wvdsSetPiece)(pieces, 2, tIn, u2, b, a3, b3);
+    pieces.count = 3;
+    return 3;
+}
+
+// wvdsPieces for a box: its planes [first, first + 6) in pairs of opposite normals (boxHalfSpaces). Of each pair only
+// the face towards the light can be left, which gives three lines and wvdsEnvelope3's three pieces (some possibly
+// empty). What the box variant of the GPU renderer runs; the general walk below gives the same P(t).
+TY_FUNC int TY_RS(wvdsBoxPieces)(int first, TY_IN(TY_R3) o, TY_IN(TY_R3) d, TY_IN(TY_R3) l, TY_R tIn, TY_R a, TY_R b,
+                                 TY_OUT(TY_RS(WvdsPieces)) pieces) {
+    TY_R3 alpha = TY_R3(TY_R(kInfinity)), beta = TY_R3(TY_R(0.0f));
+    bool any = false;
+    for (int i = 0; i < 3; ++i) {
+        vec4 plane = wvdsPlane(first + 2 * i);
+        if (dot(TY_R3(vec3(plane)), l) <= TY_R(0.0f)) plane = wvdsPlane(first + 2 * i + 1);
+        TY_R3 n = TY_R3(vec3(plane));
+        TY_R nl = dot(n, l);
+        if (nl <= TY_R(0.0f)) continue;  // the light ray is parallel to both faces of the pair
+        alpha[i] = (TY_R(plane.w) - dot(n, o)) / nl;
+        beta[i] = -dot(n, d) / nl;
+        any = true;
+    }
+    pieces.count = 0;
+    for (int k = 0; k < kWvdsMaxSegments; ++k) {
+        pieces.t0[k] = b;
+        pieces.len[k] = TY_R(0.0f);
+        pieces.p0[k] = TY_R(0.0f);
+        pieces.c[k] = TY_R(1.0f);
+    }
+    if (!any || !(b > a)) return 0;
+    return TY_RS(wvdsEnvelope3)(alpha, beta, tIn, a, b, pieces);
+}
+
 // Sec. 4.2-4.4 without the traversal of the box outline: d_m(t) is the lower envelope of one line per face that the
 // light ray can leave through, d_f(t) = (w_f - n_f.(o + t d)) / (n_f.l), walked from a to b. The medium is the planes
 // [first, first + count); o + t d is the camera ray (d of unit length), tIn where it enters the medium, l the unit
-// direction towards the light. Returns the number of pieces: 0 when [a, b] is empty.
+// direction towards the light. Returns the number of pieces: 0 when [a, b] is empty. A shader that defines
+// TY_WVDS_BOX gets wvdsBoxPieces instead.
 // Every array here is indexed by a loop counter with a constant bound (faces that do not count get the line
 // alpha = +max, beta = 0, which is never lowest and never crossed within [a, b]), so that shaders keep them in
 // registers; the current and the next line are carried as values.
 TY_FUNC int TY_RS(wvdsPieces)(int first, int count, TY_IN(TY_R3) o, TY_IN(TY_R3) d, TY_IN(TY_R3) l, TY_R tIn, TY_R a,
                               TY_R b, TY_OUT(TY_RS(WvdsPieces)) pieces) {
+#ifdef TY_WVDS_BOX
+    return TY_RS(wvdsBoxPieces)(first, o, d, l, tIn, a, b, pieces);
+#else
     TY_R alpha[kWvdsLines];
     TY_R beta[kWvdsLines];
     bool any = false;
     for (int i = 0; i < kWvdsLines; ++i) {
         alpha[i] = TY_R(kInfinity);
         beta[i] = TY_R(0.0f);
-#ifdef TY_WVDS_BOX
-        // The face of pair i that faces the light (the other's normal is the opposite).
-        vec4 plane = wvdsPlane(first + 2 * i);
-        vec4 opposite = wvdsPlane(first + 2 * i + 1);
-        if (dot(TY_R3(vec3(plane)), l) <= TY_R(0.0f)) plane = opposite;
-#else
         if (i >= count) continue;
         vec4 plane = wvdsPlane(first + i);
-#endif
         TY_R3 n = TY_R3(vec3(plane));
         TY_R nl = dot(n, l);
         if (nl <= TY_R(0.0f)) continue;  // the light ray cannot leave through this face
@@ -143,6 +222,7 @@ TY_FUNC int TY_RS(wvdsPieces)(int first, int count, TY_IN(TY_R3) o, TY_IN(TY_R3)
         curBeta = nextBeta;
     }
     return pieces.count;
+#endif
 }
 
 // The path length P(t) at a point t of the pieces (clamped to their range).

@@ -91,6 +91,26 @@ TY_FUNC int wvdsEstimator(TY_IN(WvdsFrame) f) {
 #endif
 }
 
+// The loops over the lights run to the light count where the shader defines TY_WVDS_LIGHTS (one variant per count),
+// else to kWvdsMaxLights with the lights beyond the frame's count skipped. Constant bounds keep the per-light arrays in
+// registers, and an exact bound matters on lavapipe, which runs a loop's body for lanes that skip it: a bound of 4 cost
+// the analytic frame four lights' work for one.
+#ifdef TY_WVDS_LIGHTS
+TY_CONST int kWvdsLightLoop = TY_WVDS_LIGHTS;
+#else
+TY_CONST int kWvdsLightLoop = kWvdsMaxLights;
+#endif
+
+// The medium's plane count: a compile-time constant where the shader defines TY_WVDS_PLANES (one variant per count), so
+// that the slab tests over the medium unroll and read their planes at constant offsets; else the frame's.
+TY_FUNC int wvdsPlaneCount(TY_IN(WvdsFrame) f) {
+#ifdef TY_WVDS_PLANES
+    return TY_WVDS_PLANES;
+#else
+    return f.planeCount;
+#endif
+}
+
 TY_FUNC bool wvdsIsRatio(int estimator) {
     return estimator == kWvdsReds || estimator == kWvdsRees;
 }
@@ -143,12 +163,12 @@ TY_FUNC vec3 wvdsMediumEstimate(TY_IN(WvdsFrame) f, int estimator, TY_IN(WvdsLig
         t = wvdsDistanceSample_float(f.sigmaSample, a, b, u, pdf);
         if (!(pdf > 0.0f)) return vec3(0.0f);
         vec3 x = origin + t * dir;
-        float dm = wvdsExitDistance_float(0, f.planeCount, x, light.toLight);
+        float dm = wvdsExitDistance_float(0, wvdsPlaneCount(f), x, light.toLight);
         transmittance = wvdsTransmittance(f, t - tIn + dm) / pdf;
     } else {  // kWvdsRm: stratum `stratum` of `strata` equal steps, jittered
         t = a + (float(stratum) + u) / float(strata) * (b - a);
         vec3 x = origin + t * dir;
-        float dm = wvdsExitDistance_float(0, f.planeCount, x, light.toLight);
+        float dm = wvdsExitDistance_float(0, wvdsPlaneCount(f), x, light.toLight);
         transmittance = wvdsTransmittance(f, t - tIn + dm) * (b - a);
     }
     float v = wvdsVisible(f, origin + t * dir, light.toLight);
@@ -179,7 +199,7 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
 
     // The medium along the ray: [tIn, tOut], and the part in front of the surface.
     float tIn = 0.0f, tOut = kInfinity;
-    bool inMedium = wvdsClip_float(0, f.planeCount, origin, dir, tIn, tOut);
+    bool inMedium = wvdsClip_float(0, wvdsPlaneCount(f), origin, dir, tIn, tOut);
     float mediumEnd = min(tOut, tEnd);
     bool scatters = inMedium && tIn < mediumEnd;
     int N = max(f.raySamples, 1);
@@ -192,13 +212,13 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
     for (int i = 0; i < kWvdsMaxLights; ++i)
         selectionWeights[i] = 0.0f;
 
-    for (int i = 0; i < kWvdsMaxLights; ++i) {  // a constant bound, so that the per-light arrays need no indexing
+    for (int i = 0; i < kWvdsLightLoop; ++i) {
         if (i >= f.lightCount || !scatters) continue;
         WvdsLight light = wvdsLight(i);
         float a, b;
         if (!wvdsLitInterval(light, origin, dir, tIn, mediumEnd, a, b)) continue;
         WvdsPieces_float pieces;
-        wvdsPieces_float(0, f.planeCount, origin, dir, light.toLight, tIn, a, b, pieces);
+        wvdsPieces_float(0, wvdsPlaneCount(f), origin, dir, light.toLight, tIn, a, b, pieces);
         vec3 weight = f.sigmaS * phaseEval(f.phase, dot(dir, light.toLight)) * light.irradiance;
         vec3 analytic = vec3(wvdsTotal_float(pieces, f.sigmaT.x));
         if (f.sigmaT.y != f.sigmaT.x || f.sigmaT.z != f.sigmaT.x)  // chromatic: one integral per channel
@@ -245,7 +265,7 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
             int chosen = -1;
             bool passed = false;
             float probability = 0.0f;
-            for (int i = 0; i < kWvdsMaxLights; ++i) {
+            for (int i = 0; i < kWvdsLightLoop; ++i) {
                 if (i >= f.lightCount || passed) continue;
                 if (selectionWeights[i] > 0.0f) {
                     chosen = i;
@@ -259,7 +279,7 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
             float a, b;
             wvdsLitInterval(light, origin, dir, tIn, mediumEnd, a, b);
             WvdsPieces_float pieces;
-            wvdsPieces_float(0, f.planeCount, origin, dir, light.toLight, tIn, a, b, pieces);
+            wvdsPieces_float(0, wvdsPlaneCount(f), origin, dir, light.toLight, tIn, a, b, pieces);
             vec3 weight = f.sigmaS * phaseEval(f.phase, dot(dir, light.toLight)) * light.irradiance;
             terms.direct += wvdsMediumEstimate(f, estimator, light, weight, origin, dir, tIn, a, b, pieces, u.y, k, N,
                                                probability) /
@@ -275,7 +295,8 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
         MaterialParams material = wvdsMaterial(st.material);
         vec3 xs = origin + hit.t * dir;
         float cameraDepth = inMedium ? max(min(tOut, hit.t) - tIn, 0.0f) : 0.0f;
-        for (int i = 0; i < f.lightCount; ++i) {
+        for (int i = 0; i < kWvdsLightLoop; ++i) {
+            if (i >= f.lightCount) continue;
             WvdsLight light = wvdsLight(i);
             bool inBeam = true;
             for (int p = 0; p < light.goboCount; ++p) {
@@ -288,7 +309,7 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
             vec3 start = xs + f.rayOffset * frame.ng;
             if (f.shadows != 0 && bvhOccluded(start, light.toLight, 0.0f, kInfinity)) continue;
             float la = 0.0f, lb = kInfinity;
-            float lightDepth = wvdsClip_float(0, f.planeCount, xs, light.toLight, la, lb) ? lb - la : 0.0f;
+            float lightDepth = wvdsClip_float(0, wvdsPlaneCount(f), xs, light.toLight, la, lb) ? lb - la : 0.0f;
             terms.direct += light.irradiance * reflected * wvdsTransmittance(f, cameraDepth + lightDepth);
         }
     }

@@ -6,6 +6,8 @@
 //   TY_WVDS_MAX_PLANES n    arrays for at most n faces (6 for a box): loops unroll and the arrays stay in registers
 //   TY_WVDS_BOX             the medium is a box (its planes in opposite pairs): 3 lines and 3 segments
 //   TY_PHASE_KIND k         the medium's phase function (kPhase* in phase.h): the other kinds are left out
+//   TY_WVDS_LIGHTS n        exactly n collimated lights: the loops over them run n times, not kWvdsMaxLights
+//   TY_WVDS_PLANES n        exactly n medium planes: the slab tests over the medium unroll
 //   TY_BVH_WORDS            BVH arrays read as 64-bit words (needs shaderFloat64; the cheaper loads on lavapipe)
 // The build compiles this file as it is (every estimator, 16 faces, every phase function) so that CI validates it with spirv-val.
 #extension GL_GOOGLE_include_directive : require

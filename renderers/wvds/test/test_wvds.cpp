@@ -95,11 +95,11 @@ enum class Case { Outside, Inside, Parallel, AntiParallel, NearParallel, Edge, C
 // and inside the box, light and view exactly and nearly parallel (both ways), rays grazing an edge or a corner, and
 // rays clamped by a surface inside the box. Double precision (the core is instantiated in double for this); the
 // quadrature is split into 64 pieces so that the kinks at the corners cost it nothing. Tolerance 1e-6 relative (the
-// issue's); the measured worst is printed.
+// issue's); the measured worst is printed. Both envelopes: the general walk and the box variant's closed form.
 TEST(WvdsIntegral, MatchesQuadratureOnRandomConfigurations) {
     std::mt19937_64 rng(20261201);
     std::uniform_real_distribution<double> U(0.0, 1.0);
-    double worst = 0.0;
+    double worst = 0.0, worstBox = 0.0;
     int configurations = 0, multiSegment = 0, negativeSlope = 0;
     const Case cases[] = {Case::Outside,      Case::Inside, Case::Parallel, Case::AntiParallel,
                           Case::NearParallel, Case::Edge,   Case::Corner,   Case::Surface};
@@ -160,10 +160,29 @@ TEST(WvdsIntegral, MatchesQuadratureOnRandomConfigurations) {
             if (pieces.c[k] < 0.0) ++negativeSlope;
         ASSERT_LE(error, 1e-6) << "configuration " << i << " (case " << int(kind) << "): analytic " << analytic
                                << ", quadrature " << quadrature << ", " << pieces.count << " segments";
+
+        // The closed-form envelope of the box variant: the same integral, three ordered pieces covering [tIn, b]
+        // (some possibly empty), and the same path length P(t) everywhere.
+        shader::WvdsPieces_double boxPieces;
+        ASSERT_EQ(shader::wvdsBoxPieces_double(0, o, d, l, r.tIn, r.tIn, b, boxPieces), 3);
+        const double boxError = std::abs(shader::wvdsTotal_double(boxPieces, sigma) - quadrature) / quadrature;
+        worstBox = std::max(worstBox, boxError);
+        ASSERT_LE(boxError, 1e-6) << "configuration " << i << " (case " << int(kind) << "), box envelope";
+        EXPECT_EQ(boxPieces.t0[0], r.tIn);
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_GE(boxPieces.len[k], 0.0) << "configuration " << i;
+            const double end = k < 2 ? boxPieces.t0[k + 1] : b;
+            EXPECT_NEAR(boxPieces.t0[k] + boxPieces.len[k], end, 1e-12 * (1.0 + std::abs(end))) << "configuration " << i;
+        }
+        for (int j = 0; j < 16; ++j) {
+            const double t = r.tIn + (b - r.tIn) * (j + 0.5) / 16.0;
+            const double P = shader::wvdsPathLength_double(pieces, t);
+            EXPECT_NEAR(shader::wvdsPathLength_double(boxPieces, t), P, 1e-9 * (1.0 + P)) << "configuration " << i;
+        }
     }
     std::printf("WVDS integral: %d configurations (%d with several segments, %d segments of negative slope), worst "
-                "relative error %.3g\n",
-                configurations, multiSegment, negativeSlope, worst);
+                "relative error %.3g (box envelope %.3g)\n",
+                configurations, multiSegment, negativeSlope, worst, worstBox);
     EXPECT_GE(configurations, 1000);
     EXPECT_GE(multiSegment, 300);
     EXPECT_GE(negativeSlope, 50);
@@ -191,6 +210,9 @@ TEST(WvdsIntegral, FloatAgreesWithDouble) {
         shader::wvdsPieces_double(0, bound.count(), glm::dvec3(o), glm::dvec3(d), glm::dvec3(l), a, a, b, pd);
         const double reference = shader::wvdsTotal_double(pd, sigma);
         EXPECT_NEAR(shader::wvdsTotal_float(pf, sigma), reference, 1e-4 * reference) << "configuration " << i;
+        shader::WvdsPieces_float boxPieces;
+        shader::wvdsBoxPieces_float(0, o, d, l, a, a, b, boxPieces);
+        EXPECT_NEAR(shader::wvdsTotal_float(boxPieces, sigma), reference, 1e-4 * reference) << "configuration " << i;
     }
 }
 
