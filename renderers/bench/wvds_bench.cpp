@@ -3,6 +3,8 @@
 //   build/renderers/bench/tyndall_wvds_bench
 // - BM_WvdsGpu/estimator: GPU time of the render on the Vulkan device (lavapipe here), from its timestamps; the first
 //   render compiles the pipeline and is not timed. Targets on lavapipe: analytic <= 10 ms, mcwvds <= 100 ms.
+// - BM_WvdsGpuMediumOnly/estimator: the same without the scene's meshes (no camera hits, no shadow rays), so that the
+//   frame is the medium's single scattering alone: for the analytic estimator, the unoccluded integral over the image.
 // - BM_WvdsCpu/estimator: wall time of the CPU path (every core).
 #include "tyndall/project.h"
 #include "tyndall/render.h"
@@ -10,6 +12,7 @@
 #include <benchmark/benchmark.h>
 
 #include <string>
+#include <vector>
 
 using namespace tyndall;
 
@@ -18,18 +21,20 @@ namespace {
 const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/wvds-box.json";
 const char* kEstimators[] = {"analytic", "mcwvds", "reds", "rees", "rm", "mcds"};
 
-RenderJob frameJob(const std::string& estimator, const std::string& device) {
-    const Project project =
-        loadProject(kProject, {"camera.width=512", "camera.height=512", "views[mcwvds].parameters.device=" + device,
-                               "views[mcwvds].parameters.estimator=" + estimator});
+RenderJob frameJob(const std::string& estimator, const std::string& device, bool meshes = true) {
+    std::vector<std::string> overrides = {"camera.width=512", "camera.height=512",
+                                          "views[mcwvds].parameters.device=" + device,
+                                          "views[mcwvds].parameters.estimator=" + estimator};
+    if (!meshes) overrides.push_back("meshes=[]");
+    const Project project = loadProject(kProject, overrides);
     JobOptions options;
     options.spp = 1;
     return makeViewJob(project, kProject, "mcwvds", options);
 }
 
-void BM_WvdsGpu(benchmark::State& state) {
+void gpuFrames(benchmark::State& state, bool meshes) {
     const std::string estimator = kEstimators[state.range(0)];
-    RenderJob job = frameJob(estimator, "gpu");
+    RenderJob job = frameJob(estimator, "gpu", meshes);
     runJob(job);  // compiles the pipeline
     double longest = 0.0;
     for (auto _ : state) {
@@ -40,7 +45,12 @@ void BM_WvdsGpu(benchmark::State& state) {
     state.counters["longestSliceMs"] = longest;
     state.SetLabel(estimator);
 }
+
+void BM_WvdsGpu(benchmark::State& state) { gpuFrames(state, true); }
 BENCHMARK(BM_WvdsGpu)->DenseRange(0, 5)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
+
+void BM_WvdsGpuMediumOnly(benchmark::State& state) { gpuFrames(state, false); }
+BENCHMARK(BM_WvdsGpuMediumOnly)->DenseRange(0, 1)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
 
 void BM_WvdsCpu(benchmark::State& state) {
     const std::string estimator = kEstimators[state.range(0)];

@@ -47,6 +47,7 @@ GpuSurfaces prepareGpuSurfaces(const Scene& scene, const std::string& projectDir
         meshes.push_back(std::move(tm));
     }
     s.bvh = gpu::buildBvh(meshes);
+    s.triangleCount = s.triangles.size();
     if (s.triangles.empty()) s.triangles.push_back(shader::SurfaceTriangle{});
     s.boundsMin = lo;
     s.boundsMax = hi;

@@ -14,6 +14,7 @@ namespace tyndall {
 
 struct GpuSurfaces {
     std::vector<shader::SurfaceTriangle> triangles;  // indexed by BvhTriangle::id; never empty (a dummy when no mesh)
+    std::size_t triangleCount = 0;                   // the scene's triangles (0: `triangles` holds only the dummy)
     std::vector<shader::MaterialParams> materials;   // in Scene::materials order; never empty
     gpu::Bvh bvh;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // m, of every triangle (min > max when there is none)

@@ -130,12 +130,30 @@ TY_FUNC bool wvdsLitInterval(TY_IN(WvdsLight) light, TY_IN(vec3) origin, TY_IN(v
 // V(t): 1 when nothing blocks the way from x to the light.
 TY_FUNC float wvdsVisible(TY_IN(WvdsFrame) f, TY_IN(vec3) x, TY_IN(vec3) toLight) {
     if (f.shadows == 0) return 1.0f;
+#ifdef TY_WVDS_NO_SURFACES
+    return 1.0f;
+#else
     return bvhOccluded(x, toLight, f.rayOffset, kInfinity) ? 0.0f : 1.0f;
+#endif
 }
 
-// The transmittance exponent per channel on the way camera -> x(t) -> boundary.
+// True when the medium's extinction is the same in every channel: a compile-time constant where the shader defines
+// TY_WVDS_GREY (a grey variant: lavapipe would otherwise run the other channels' integrals, a branch no lane takes).
+TY_FUNC bool wvdsGrey(TY_IN(WvdsFrame) f) {
+#ifdef TY_WVDS_GREY
+    return true;
+#else
+    return f.sigmaT.y == f.sigmaT.x && f.sigmaT.z == f.sigmaT.x;
+#endif
+}
+
+// The transmittance per channel on the way camera -> x(t) -> boundary.
 TY_FUNC vec3 wvdsTransmittance(TY_IN(WvdsFrame) f, float pathLength) {
+#ifdef TY_WVDS_GREY
+    return vec3(exp(-f.sigmaT.x * pathLength));
+#else
     return exp(-f.sigmaT * pathLength);
+#endif
 }
 
 // Random numbers of distance sample k of a camera sample: the first from the pixel's Sobol sequence (stratified over
@@ -193,9 +211,14 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
     Pcg32 rng = pcg32Seed(pixelSeed, sequenceIndex);
     vec3 origin, dir;
     cameraRay(f.camera, float(px) + jitter.x, float(py) + jitter.y, origin, dir);
+#ifdef TY_WVDS_NO_SURFACES
+    bool hasHit = false;
+    float tEnd = kInfinity;
+#else
     BvhHit hit;
     bool hasHit = bvhIntersect(origin, dir, 0.0f, kInfinity, hit);
     float tEnd = hasHit ? hit.t : kInfinity;
+#endif
 
     // The medium along the ray: [tIn, tOut], and the part in front of the surface.
     float tIn = 0.0f, tOut = kInfinity;
@@ -221,7 +244,7 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
         wvdsPieces_float(0, wvdsPlaneCount(f), origin, dir, light.toLight, tIn, a, b, pieces);
         vec3 weight = f.sigmaS * phaseEval(f.phase, dot(dir, light.toLight)) * light.irradiance;
         vec3 analytic = vec3(wvdsTotal_float(pieces, f.sigmaT.x));
-        if (f.sigmaT.y != f.sigmaT.x || f.sigmaT.z != f.sigmaT.x)  // chromatic: one integral per channel
+        if (!wvdsGrey(f))  // chromatic: one integral per channel
             analytic = vec3(analytic.x, wvdsTotal_float(pieces, f.sigmaT.y), wvdsTotal_float(pieces, f.sigmaT.z));
         if (select) {
             selectionWeights[i] = wvdsMean(weight * analytic);
@@ -289,6 +312,7 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
 
     // Direct light at the surface (Eq. 1's first term): the BSDF, the beam, a shadow ray, and the transmittance on
     // both legs through the medium.
+#ifndef TY_WVDS_NO_SURFACES
     if (hasHit) {
         SurfaceTriangle st = wvdsTriangle(int(hit.id));
         SurfaceFrame frame = surfaceFrame(st, hit.uv, dir);
@@ -313,6 +337,7 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
             terms.direct += light.irradiance * reflected * wvdsTransmittance(f, cameraDepth + lightDepth);
         }
     }
+#endif
     return terms;
 }
 
