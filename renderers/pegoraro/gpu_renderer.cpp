@@ -18,6 +18,7 @@ struct Push {
     std::uint32_t first;
     std::uint32_t count;
     std::uint32_t width;
+    std::uint32_t listed;
 };
 
 std::string shaderPath() {
@@ -35,11 +36,12 @@ int roundTerms(int terms) {
 
 GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
 
-gpu::ComputeKernel& GpuRenderer::kernel(int maxTerms, bool useDouble, bool shadows) {
-    const int terms = roundTerms(maxTerms);
+gpu::ComputeKernel& GpuRenderer::kernel(const Variant& v) {
+    const int terms = roundTerms(v.maxTerms);
     const bool words = context_->device().shaderFloat64;
-    const std::string key =
-        std::to_string(terms) + (useDouble ? "d" : "f") + (words ? "w" : "s") + (shadows ? "" : "-noshadows");
+    const std::string key = std::to_string(terms) + (v.useDouble ? "d" : "f") + (words ? "w" : "s") +
+                            (v.shadows ? "" : "-noshadows") + (v.surfaces ? "" : "-nosurfaces") +
+                            (v.grey ? "-grey" : "") + (v.deferredFallback ? "-deferred" : "");
     auto it = kernels_.find(key);
     if (it != kernels_.end()) return *it->second;
 
@@ -50,14 +52,17 @@ gpu::ComputeKernel& GpuRenderer::kernel(int maxTerms, bool useDouble, bool shado
     std::string source = text.str();
     // Defines go right after the #version line.
     std::string defines = "#define TY_PEGORARO_MAX_TERMS " + std::to_string(terms) + "\n";
-    if (useDouble) defines += "#define TY_ENABLE_DOUBLE\n";
+    if (v.useDouble) defines += "#define TY_ENABLE_DOUBLE\n";
     if (words) defines += "#define TY_BVH_WORDS\n";
-    if (!shadows) defines += "#define TY_PEGORARO_NO_SHADOWS\n";
+    if (!v.shadows) defines += "#define TY_PEGORARO_NO_SHADOWS\n";
+    if (!v.surfaces) defines += "#define TY_PEGORARO_NO_SURFACES\n";
+    if (v.grey) defines += "#define TY_PEGORARO_GREY\n";
+    if (v.deferredFallback) defines += "#define TY_PEGORARO_DEFERRED_FALLBACK\n";
     const std::size_t lineEnd = source.find('\n');
     source.insert(lineEnd + 1, defines + "#line 2\n");
     gpu::CompileResult compiled = gpu::compileGlslSource(source, shaderPath(), gpu::ShaderStage::Compute);
     if (!compiled.ok) throw gpu::ShaderError(*compiled.error);
-    auto k = std::make_unique<gpu::ComputeKernel>(*context_, compiled.spirv, 10, std::uint32_t(sizeof(Push)),
+    auto k = std::make_unique<gpu::ComputeKernel>(*context_, compiled.spirv, 11, std::uint32_t(sizeof(Push)),
                                                   "pegoraro_" + key);
     return *kernels_.emplace(key, std::move(k)).first->second;
 }
@@ -68,10 +73,19 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         throw InputError(InputLocation{"", 0, 0, "precision"},
                          "the GPU '" + context_->device().name +
                              "' has no double precision (shaderFloat64); use precision = float or device = cpu");
+    // Pass 1 runs the closed form without the quadrature's code; the samples where an evaluation needs the quadrature
+    // (the error bound, or an order beyond the series) are rendered again, over a list, by the full shader. With
+    // fallback = always every evaluation needs it, so the full shader runs at once.
+    Variant variant;
+    variant.maxTerms = scene.maxTerms;
+    variant.useDouble = useDouble;
+    variant.shadows = scene.frame.shadows != 0;
+    variant.surfaces = scene.triangleCount > 0;
+    variant.grey = scene.frame.sigmaT.x == scene.frame.sigmaT.y && scene.frame.sigmaT.x == scene.frame.sigmaT.z;
+    variant.deferredFallback = scene.frame.fallbackMode != shader::kPegoraroFallbackAlways;
     const auto compileStart = std::chrono::steady_clock::now();
-    gpu::ComputeKernel& k = kernel(scene.maxTerms, useDouble, scene.frame.shadows != 0);
-    const double compileSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - compileStart).count();
+    gpu::ComputeKernel& first = kernel(variant);
+    double compileSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - compileStart).count();
     gpu::Context& ctx = *context_;
 
     auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
@@ -92,29 +106,58 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         throw InputError(InputLocation{"", 0, 0, "supersampling"}, "too many samples for one GPU render");
     gpu::Buffer radiance(ctx, samples * sizeof(glm::vec4));
     gpu::Buffer overflows(ctx, samples * sizeof(std::uint32_t));
-    const std::vector<const gpu::Buffer*> buffers = {
-        nodes.get(),        triangles.get(),        frame.get(),     lights.get(), media.get(),
-        coefficients.get(), surfaceTriangles.get(), materials.get(), &radiance,    &overflows};
+    std::unique_ptr<gpu::Buffer> list = upload(std::vector<std::uint32_t>{0u});
+    auto bindings = [&] {
+        return std::vector<const gpu::Buffer*>{nodes.get(),        triangles.get(),        frame.get(),
+                                               lights.get(),       media.get(),            coefficients.get(),
+                                               surfaceTriangles.get(), materials.get(),    &radiance,
+                                               &overflows,         list.get()};
+    };
 
-    gpu::SliceStats stats;
-    try {
-        stats = gpu::runSliced(
-            ctx, samples,
-            [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t count) {
-                if (callbacks.progress) callbacks.progress(double(begin) / double(samples));
-                Push push{std::uint32_t(begin), std::uint32_t(samples), std::uint32_t(width)};
-                k.record(cmd, buffers, &push, std::uint32_t((count + kGroupSize - 1) / kGroupSize));
-                gpu::computeToComputeBarrier(cmd);
-            },
-            callbacks.cancel, 10.0, 256);
-    } catch (...) {
+    // `count` items of a pass; progress runs over [progressFrom, progressTo).
+    double longestMs = 0.0, totalMs = 0.0;
+    auto pass = [&](gpu::ComputeKernel& k, std::uint64_t count, bool listed, double progressFrom, double progressTo) {
+        const std::vector<const gpu::Buffer*> buffers = bindings();
+        gpu::SliceStats stats;
+        try {
+            stats = gpu::runSliced(
+                ctx, count,
+                [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t n) {
+                    if (callbacks.progress)
+                        callbacks.progress(progressFrom + (progressTo - progressFrom) * double(begin) / double(count));
+                    Push push{std::uint32_t(begin), std::uint32_t(count), std::uint32_t(width), listed ? 1u : 0u};
+                    k.record(cmd, buffers, &push, std::uint32_t((n + kGroupSize - 1) / kGroupSize));
+                    gpu::computeToComputeBarrier(cmd);
+                },
+                callbacks.cancel, 10.0, 256);
+        } catch (...) {
+            k.resetDescriptors();
+            throw;
+        }
         k.resetDescriptors();
-        throw;
+        longestMs = std::max(longestMs, stats.longestMs);
+        totalMs += stats.totalMs;
+    };
+    pass(first, samples, false, 0.0, variant.deferredFallback ? 0.9 : 1.0);
+
+    std::vector<glm::vec4> perSample = radiance.download<glm::vec4>(samples);
+    if (variant.deferredFallback) {
+        std::vector<std::uint32_t> deferred;
+        for (std::uint64_t i = 0; i < samples; ++i)
+            if (perSample[i].w > 0.0f) deferred.push_back(std::uint32_t(i));
+        if (!deferred.empty()) {
+            Variant full = variant;
+            full.deferredFallback = false;
+            const auto start = std::chrono::steady_clock::now();
+            gpu::ComputeKernel& second = kernel(full);
+            compileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            list = upload(deferred);
+            pass(second, deferred.size(), true, 0.9, 1.0);
+            perSample = radiance.download<glm::vec4>(samples);
+        }
     }
-    k.resetDescriptors();
 
     // The mean of each pixel's samples, the sums of their fallbacks and overflows.
-    const std::vector<glm::vec4> perSample = radiance.download<glm::vec4>(samples);
     const std::vector<std::uint32_t> overflowsPerSample = overflows.download<std::uint32_t>(samples);
     GpuOutput out;
     out.radiance.assign(pixels, glm::vec4(0.0f));
@@ -128,8 +171,8 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         out.radiance[p] = glm::vec4(glm::vec3(sum) / float(perPixel), sum.w);
     }
     out.deviceName = ctx.device().name;
-    out.longestSliceMs = stats.longestMs;
-    out.gpuMs = stats.totalMs;
+    out.longestSliceMs = longestMs;
+    out.gpuMs = totalMs;
     out.compileSeconds = compileSeconds;
     return out;
 }

@@ -35,7 +35,16 @@ public:
     gpu::Context& context() { return *context_; }
 
 private:
-    gpu::ComputeKernel& kernel(int maxTerms, bool useDouble, bool shadows);
+    // One compiled variant of the shader (see the top of pegoraro.comp.glsl).
+    struct Variant {
+        int maxTerms = 1;
+        bool useDouble = false;
+        bool shadows = true;
+        bool surfaces = true;
+        bool grey = false;
+        bool deferredFallback = false;
+    };
+    gpu::ComputeKernel& kernel(const Variant& variant);
 
     std::shared_ptr<gpu::Context> context_;
     std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels_;  // by variant

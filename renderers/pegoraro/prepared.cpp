@@ -114,6 +114,7 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
 
     // Surfaces.
     GpuSurfaces surfaces = prepareGpuSurfaces(scene, projectDir);
+    p.triangleCount = surfaces.triangleCount;
     p.triangles = std::move(surfaces.triangles);
     p.materials = std::move(surfaces.materials);
     p.bvh = std::move(surfaces.bvh);

@@ -39,7 +39,8 @@ struct PreparedScene {
     std::vector<shader::PegoraroLight> lights;
     std::vector<shader::PegoraroMedium> media;
     std::vector<glm::vec2> coefficients;  // (hi, lo) float pairs, value = hi + lo
-    std::vector<shader::SurfaceTriangle> triangles;
+    std::vector<shader::SurfaceTriangle> triangles;  // never empty (a dummy when the scene has no triangle)
+    std::size_t triangleCount = 0;                   // the scene's triangles
     std::vector<shader::MaterialParams> materials;
     gpu::Bvh bvh;
     int maxTerms = 1;                     // the largest N = N_phi + N_I - 1 over (medium, light) pairs

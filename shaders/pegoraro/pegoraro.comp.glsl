@@ -7,6 +7,10 @@
 //   TY_BVH_WORDS              BVH arrays read as 64-bit words (needs shaderFloat64)
 //   TY_PEGORARO_NO_SHADOWS    without the lit intervals and shadow rays, for renders with shadows off: lavapipe runs
 //                             the shader ~40 % faster when that code is absent, even though it would not execute
+//   TY_PEGORARO_NO_SURFACES   the scene has no triangles: no camera hits, lit intervals or surface shading
+//   TY_PEGORARO_GREY          the extinction is the same in every channel: one closed form per evaluation, not three
+//   TY_PEGORARO_DEFERRED_FALLBACK  the first pass: no quadrature code; an evaluation that needs it is counted in w, and
+//                             the host renders those samples again with the full shader over a list (push.listed)
 // The build compiles this file as it is (float, 40 terms) so that CI validates it with spirv-val.
 #extension GL_GOOGLE_include_directive : require
 
@@ -28,11 +32,14 @@ layout(std430, set = 0, binding = 7) readonly buffer Materials { MaterialParams 
 // over invocations.
 layout(std430, set = 0, binding = 8) writeonly buffer Radiance { vec4 radiance[]; };  // rgb, fallbacks
 layout(std430, set = 0, binding = 9) writeonly buffer Overflows { uint overflows[]; };
+// With push.listed: the samples this dispatch renders (those whose first pass deferred a fallback).
+layout(std430, set = 0, binding = 10) readonly buffer SampleList { uint sampleList[]; };
 
 layout(push_constant) uniform Push {
-    uint first;  // first sample of this dispatch
-    uint count;  // samples in the image: width * height * S * S
+    uint first;   // first sample (or, with listed, first list entry) of this dispatch
+    uint count;   // samples in the image, width * height * S * S (or, with listed, entries in the list)
     uint width;
+    uint listed;  // 1: invocation i renders sample sampleList[first + i]
 } push;
 
 PegoraroLight pegoraroLight(int i) { return lights[i]; }
@@ -44,6 +51,7 @@ MaterialParams surfaceMaterial(int i) { return materials[i]; }
 void main() {
     uint i = push.first + gl_GlobalInvocationID.x;
     if (i >= push.count) return;
+    if (push.listed != 0u) i = sampleList[i];
     uint samples = uint(max(frame.supersampling, 1) * max(frame.supersampling, 1));
     uint pixel = i / samples;
     int k = int(i - pixel * samples);

@@ -26,11 +26,20 @@ TY_FUNC TY_R pegoraroChannel(TY_IN(PegoraroFrame) f, TY_IN(TY_RS(PegoraroSeries)
         value = pegoraroIntegral(s, H, ua, ub, errorBound);
         quadrature = f.fallbackMode == kPegoraroFallbackAuto && errorBound > TY_R(f.fallbackTolerance) * abs(value);
     }
+#ifdef TY_PEGORARO_DEFERRED_FALLBACK
+    // The first pass of the GPU renderer: no quadrature code (lavapipe would run it for every evaluation, taken or
+    // not). The evaluation is counted, and the host renders the samples that have any again with the full shader.
+    if (quadrature) {
+        value = TY_R(0.0f);
+        ++fallbacks;
+    }
+#else
     if (quadrature) {
         int panels;
         value = pegoraroQuadrature(H, ua, ub, del, dc, phase, light, TY_R(f.quadratureTolerance), panels);
         ++fallbacks;
     }
+#endif
     return value;
 }
 
@@ -52,11 +61,12 @@ TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(Pegorar
     LitIntervals lit;
     int pieces = 1;
     lit.pieces[0] = vec2(0.0f, tEnd);
-#ifndef TY_PEGORARO_NO_SHADOWS  // a GPU variant without them is much faster on lavapipe, even with shadows == 0
+#if !defined(TY_PEGORARO_NO_SHADOWS) && !defined(TY_PEGORARO_NO_SURFACES)
+    // A GPU variant without them is much faster on lavapipe, even with shadows == 0.
     if (f.shadows != 0) pieces = pegoraroLitPieces(f, light, origin, dir, tEnd, lit, overflows);
 #endif
 
-    bool grey = f.sigmaT.x == f.sigmaT.y && f.sigmaT.x == f.sigmaT.z;
+    bool grey = pegoraroGrey(f);
     for (int m = 0; m < f.mediumCount; ++m) {
         PegoraroMedium medium = pegoraroMedium(m);
         TY_RS(PegoraroPolynomial) phase = TY_RS(pegoraroLoadPolynomial)(medium.firstCoefficient, medium.terms);
@@ -66,17 +76,15 @@ TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(Pegorar
             TY_R ta = TY_R(lit.pieces[i].x);
             TY_R ua = (ta - xh) / h;
             TY_R ub = lit.pieces[i].y >= kInfinity ? TY_R(kInfinity) : (TY_R(lit.pieces[i].y) - xh) / h;
-            vec3 integral;
-            for (int c = 0; c < 3; ++c) {
-                if (c > 0 && grey) {
-                    integral[c] = integral[0];
-                    continue;
-                }
+            vec3 integral = vec3(0.0f);
+            for (int c = 0; c < kPegoraroChannelLoop; ++c) {
+                if (c > 0 && grey) continue;
                 TY_R sigmaT = TY_R(f.sigmaT[c]);
                 integral[c] =
                     float(pegoraroChannel(f, s, phase, lightPolynomial, sigmaT * h, ua, ub, del, dc, fallbacks) *
                           realExp(-sigmaT * ta) / h);
             }
+            if (grey) integral = vec3(integral[0]);
             // Eq. 4: Lm = sigma_s / h * I, with the transmittance e^(-sigma_t ta) from the camera to the interval.
             radiance += medium.sigmaS * light.intensity * integral;
         }
@@ -93,6 +101,9 @@ TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, TY_INO
     int fallbacks = 0;
     vec3 origin, dir;
     cameraRay(f.camera, x, y, origin, dir);
+#ifdef TY_PEGORARO_NO_SURFACES
+    float tEnd = kInfinity;
+#else
     BvhHit hit;
     bool hasHit = bvhIntersect(origin, dir, 0.0f, kInfinity, hit);
     float tEnd = hasHit ? hit.t : kInfinity;
@@ -101,11 +112,13 @@ TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, TY_INO
     SurfaceFrame frame = surfaceFrame(st, hasHit ? hit.uv : vec2(0.0f), dir);
     MaterialParams material = surfaceMaterial(st.material);
     vec3 xs = origin + (hasHit ? hit.t : 0.0f) * dir;
+#endif
     for (int l = 0; l < f.lightCount; ++l) {
         PegoraroLight light = pegoraroLight(l);
         TY_RS(PegoraroPolynomial) lightPolynomial = TY_RS(pegoraroLoadPolynomial)(light.firstCoefficient, light.terms);
         if (f.mediumCount > 0)
             sum += TY_RS(pegoraroMediumRadiance)(f, light, lightPolynomial, origin, dir, tEnd, fallbacks, overflows);
+#ifndef TY_PEGORARO_NO_SURFACES
         if (!hasHit) continue;
         // Eq. 8 and Eq. 2: direct light at the surface, attenuated on both legs.
         vec3 toLight = light.position - xs;
@@ -120,6 +133,7 @@ TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, TY_INO
         float intensity = float(pegoraroHorner(lightPolynomial, TY_R(dot(-wi, light.axis))));
         vec3 transmittance = exp(-f.sigmaT * (hit.t + distance));
         sum += light.intensity * max(intensity, 0.0f) / (distance * distance) * transmittance * reflected;
+#endif
     }
     return vec4(sum, float(fallbacks));
 }

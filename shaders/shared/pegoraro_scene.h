@@ -64,6 +64,22 @@ struct PegoraroFrame {
     float pad2;
 };
 
+// True when the extinction is the same in every channel: then one closed form serves the three. A compile-time
+// constant where the shader defines TY_PEGORARO_GREY, and the channel loop runs once (lavapipe would otherwise run the
+// other channels' evaluations, a branch that no lane takes).
+TY_FUNC bool pegoraroGrey(TY_IN(PegoraroFrame) f) {
+#ifdef TY_PEGORARO_GREY
+    return true;
+#else
+    return f.sigmaT.x == f.sigmaT.y && f.sigmaT.x == f.sigmaT.z;
+#endif
+}
+#ifdef TY_PEGORARO_GREY
+TY_CONST int kPegoraroChannelLoop = 1;
+#else
+TY_CONST int kPegoraroChannelLoop = 3;
+#endif
+
 // Supplied by the includer (see the top of the file).
 PegoraroLight pegoraroLight(int i);
 PegoraroMedium pegoraroMedium(int i);

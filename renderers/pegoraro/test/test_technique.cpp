@@ -155,6 +155,50 @@ TEST_F(PegoraroGpu, GpuPathMatchesCpuPath) {
     }
 }
 
+// The GPU compiles a variant per scene and renders in two passes: the closed form without the quadrature's code, then
+// the samples where an evaluation needs the quadrature again with it, over a list. Each variant against the CPU path
+// (same bounds as above): a grey medium (one closed form for the three channels) without meshes, the example with
+// some evaluations falling back (their counts agree within 1 %: an evaluation whose error bound is within float
+// roundoff of the tolerance may decide differently on the two devices), and no fallback at all.
+TEST_F(PegoraroGpu, VariantsAndDeferredFallbacksMatchTheCpu) {
+    const std::string view = "lamp only", prefix = "views[lamp only].parameters.";
+    struct Variant {
+        std::string name;
+        std::vector<std::string> overrides;
+        bool someFallbacks;
+    };
+    // In float, the lamp's closed form exceeds the default tolerance (1e-4) in part of the image.
+    const std::vector<Variant> variants = {
+        {"grey, no meshes", {"media[haze].sigma_s=[0.1,0.1,0.1]", "meshes=[]", prefix + "shadows=false"}, false},
+        {"chromatic, meshes, shadows, deferred fallbacks", {}, true},
+        {"no fallback", {prefix + "fallback=never"}, false}};
+    for (const Variant& v : variants) {
+        SCOPED_TRACE(v.name);
+        std::vector<std::string> gpu = v.overrides, cpu = v.overrides;
+        gpu.insert(gpu.end(), {prefix + "device=gpu", prefix + "precision=float"});
+        cpu.insert(cpu.end(), {prefix + "device=cpu", prefix + "precision=float"});
+        const RenderResult g = renderView(loadExample(40, 30, gpu), view);
+        const RenderResult c = renderView(loadExample(40, 30, cpu), view);
+        EXPECT_NE(g.image.metadata.at("device"), "cpu");
+        EXPECT_LE(computeMetrics(g.image, c.image).relMSE, 1e-8);
+        int far = 0;
+        for (int y = 0; y < g.image.height(); ++y)
+            for (int x = 0; x < g.image.width(); ++x)
+                for (int ch = 0; ch < 3; ++ch)
+                    if (std::abs(g.image.at(x, y, ch) - c.image.at(x, y, ch)) > 1e-4 * std::abs(c.image.at(x, y, ch)) + 1e-7)
+                        ++far;
+        EXPECT_LE(far, int(0.005 * 3 * g.image.width() * g.image.height()));
+        const double gpuFallbacks = std::stod(g.image.metadata.at("pegoraro:fallbackEvaluations"));
+        const double cpuFallbacks = std::stod(c.image.metadata.at("pegoraro:fallbackEvaluations"));
+        std::printf("%s: fallback evaluations GPU %.0f, CPU %.0f\n", v.name.c_str(), gpuFallbacks, cpuFallbacks);
+        EXPECT_NEAR(gpuFallbacks, cpuFallbacks, 0.01 * cpuFallbacks);
+        if (v.someFallbacks) {
+            EXPECT_GT(cpuFallbacks, 0.0);
+            EXPECT_LT(std::stod(c.image.metadata.at("pegoraro:fallbackPixels")), 0.75 * 40 * 30);
+        }
+    }
+}
+
 // The closed form itself on the GPU against the CPU, through the GPU framework's harness: 2000 random configurations
 // (H, ua, ub, del) with dc = 3/5 sqrt(1 - del^2) (a valid geometry), a Rayleigh-shaped phase function and a squared
 // spot (order 4). Double: the same operations on both sides (double_math.h replaces libm). Float: lavapipe's float log
