@@ -65,6 +65,31 @@ struct TY_RS(WvdsPieces) {
     TY_R c[kWvdsMaxSegments];    // dP/dt on the piece: the paper's slope c = 1 + (d_E,E - d_E,S) / (t_C,E - t_C,S)
 };
 
+// The line d_f(t) = alpha + beta t of the face `plane` along the camera ray o + t d (docs/wvds.md); false, with the
+// line that never counts (alpha = kInfinity, beta = 0), when the light ray (towards l) cannot leave through the face.
+TY_FUNC bool TY_RS(wvdsFaceLine)(TY_IN(vec4) plane, TY_IN(TY_R3) o, TY_IN(TY_R3) d, TY_IN(TY_R3) l, TY_OUT(TY_R) alpha,
+                                 TY_OUT(TY_R) beta) {
+    TY_R3 n = TY_R3(vec3(plane));
+    TY_R nl = dot(n, l);
+    alpha = TY_R(kInfinity);
+    beta = TY_R(0.0f);
+    if (nl <= TY_R(0.0f)) return false;
+    alpha = (TY_R(plane.w) - dot(n, o)) / nl;
+    beta = -dot(n, d) / nl;
+    return true;
+}
+
+// No pieces: every slot empty, at b.
+TY_FUNC void TY_RS(wvdsClearPieces)(TY_R b, TY_OUT(TY_RS(WvdsPieces)) pieces) {
+    pieces.count = 0;
+    for (int k = 0; k < kWvdsMaxSegments; ++k) {
+        pieces.t0[k] = b;
+        pieces.len[k] = TY_R(0.0f);
+        pieces.p0[k] = TY_R(0.0f);
+        pieces.c[k] = TY_R(1.0f);
+    }
+}
+
 // Where line j (slope betaJ <= betaI) drops below line i, as t grows: a crossing, or +-kInfinity for parallel lines
 // (never, when line i is the lower or they coincide; always, when line j is the lower).
 TY_FUNC TY_R TY_RS(wvdsCrossing)(TY_R alphaI, TY_R betaI, TY_R alphaJ, TY_R betaJ) {
@@ -123,25 +148,17 @@ TY_FUNC int TY_RS(wvdsEnvelope3)(TY_R3 alpha, TY_R3 beta, TY_R tIn, TY_R a, TY_R
 // empty). What the box variant of the GPU renderer runs; the general walk below gives the same P(t).
 TY_FUNC int TY_RS(wvdsBoxPieces)(int first, TY_IN(TY_R3) o, TY_IN(TY_R3) d, TY_IN(TY_R3) l, TY_R tIn, TY_R a, TY_R b,
                                  TY_OUT(TY_RS(WvdsPieces)) pieces) {
-    TY_R3 alpha = TY_R3(TY_R(kInfinity)), beta = TY_R3(TY_R(0.0f));
+    TY_R3 alpha, beta;
     bool any = false;
     for (int i = 0; i < 3; ++i) {
         vec4 plane = wvdsPlane(first + 2 * i);
         if (dot(TY_R3(vec3(plane)), l) <= TY_R(0.0f)) plane = wvdsPlane(first + 2 * i + 1);
-        TY_R3 n = TY_R3(vec3(plane));
-        TY_R nl = dot(n, l);
-        if (nl <= TY_R(0.0f)) continue;  // the light ray is parallel to both faces of the pair
-        alpha[i] = (TY_R(plane.w) - dot(n, o)) / nl;
-        beta[i] = -dot(n, d) / nl;
-        any = true;
+        TY_R lineAlpha, lineBeta;  // no line when the light ray is parallel to both faces of the pair
+        any = TY_RS(wvdsFaceLine)(plane, o, d, l, lineAlpha, lineBeta) || any;
+        alpha[i] = lineAlpha;
+        beta[i] = lineBeta;
     }
-    pieces.count = 0;
-    for (int k = 0; k < kWvdsMaxSegments; ++k) {
-        pieces.t0[k] = b;
-        pieces.len[k] = TY_R(0.0f);
-        pieces.p0[k] = TY_R(0.0f);
-        pieces.c[k] = TY_R(1.0f);
-    }
+    TY_RS(wvdsClearPieces)(b, pieces);
     if (!any || !(b > a)) return 0;
     return TY_RS(wvdsEnvelope3)(alpha, beta, tIn, a, b, pieces);
 }
@@ -166,21 +183,12 @@ TY_FUNC int TY_RS(wvdsPieces)(int first, int count, TY_IN(TY_R3) o, TY_IN(TY_R3)
         alpha[i] = TY_R(kInfinity);
         beta[i] = TY_R(0.0f);
         if (i >= count) continue;
-        vec4 plane = wvdsPlane(first + i);
-        TY_R3 n = TY_R3(vec3(plane));
-        TY_R nl = dot(n, l);
-        if (nl <= TY_R(0.0f)) continue;  // the light ray cannot leave through this face
-        alpha[i] = (TY_R(plane.w) - dot(n, o)) / nl;
-        beta[i] = -dot(n, d) / nl;
-        any = true;
+        TY_R lineAlpha, lineBeta;
+        any = TY_RS(wvdsFaceLine)(wvdsPlane(first + i), o, d, l, lineAlpha, lineBeta) || any;
+        alpha[i] = lineAlpha;
+        beta[i] = lineBeta;
     }
-    pieces.count = 0;
-    for (int k = 0; k < kWvdsMaxSegments; ++k) {
-        pieces.t0[k] = b;
-        pieces.len[k] = TY_R(0.0f);
-        pieces.p0[k] = TY_R(0.0f);
-        pieces.c[k] = TY_R(1.0f);
-    }
+    TY_RS(wvdsClearPieces)(b, pieces);
     if (!any || !(b > a)) return 0;
 
     // The lowest line at a (ties: the one that stays lowest, the smaller slope).
