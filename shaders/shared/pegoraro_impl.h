@@ -62,6 +62,14 @@ TY_FUNC void pegoraroSeries(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) 
 
     TY_R zero = TY_R(0.0f);
     TY_R one = TY_R(1.0f);
+    if (kPegoraroMaxTerms == 1) {
+        // A shader variant for isotropic phase and light (N = 1): P = cPhi_0 cI_0 and b_1 = P (2i)^(-1), what the
+        // general path below gives. Its loops would each run once on lavapipe, which does not skip a loop of no trip.
+        TY_R p = phase.c[0] * light.c[0];
+        s.b[0] = TY_R2(zero, -TY_R(0.5f) * p);
+        s.bAbs[0] = TY_R(0.5f) * abs(p);
+        return;
+    }
     TY_R a[kPegoraroMaxDegree + 1];
     TY_R aAbs[kPegoraroMaxDegree + 1];
     TY_R y[kPegoraroMaxDegree + 1];  // (1 + v^2)^k
@@ -192,6 +200,14 @@ TY_FUNC TY_R pegoraroEnd(TY_IN(TY_RS(PegoraroSeries)) s, TY_R H, TY_R v, TY_OUT(
     // G_j = e^t E_j(t), t = H z, for j = 1 .. N: one direct evaluation at the pivot order ~|t| and the recurrence in
     // its stable direction on each side (expint.h), streamed without an array (arrays live in slow memory on lavapipe).
     TY_R2 t = H * z;
+    if (kPegoraroMaxTerms == 1) {  // the N = 1 variant (see pegoraroSeries): G_1 alone, the pivot and no recurrence
+        TY_R sum = TY_R(0.0f);
+        sumAbs = TY_R(0.0f);
+        coefficientAbs = TY_R(0.0f);
+        pegoraroAccumulate(s.b[0], s.bAbs[0], TY_R2(TY_R(1.0f), TY_R(0.0f)), TY_R(1.0f), expintEnScaled(1, t), sum,
+                           sumAbs, coefficientAbs);
+        return sum;
+    }
     TY_R zInverseAbs = TY_R(1.0f) / sqrt(v * v + TY_R(1.0f));
     TY_R zAbs = TY_R(1.0f) / zInverseAbs;
     int pivot = expintRecurrencePivot(s.terms, t);

@@ -159,7 +159,8 @@ TEST_F(PegoraroGpu, GpuPathMatchesCpuPath) {
 // the samples where an evaluation needs the quadrature again with it, over a list. Each variant against the CPU path
 // (same bounds as above): a grey medium (one closed form for the three channels) without meshes, the example with
 // some evaluations falling back (their counts agree within 1 %: an evaluation whose error bound is within float
-// roundoff of the tolerance may decide differently on the two devices), and no fallback at all.
+// roundoff of the tolerance may decide differently on the two devices), no fallback at all, and an isotropic phase
+// function with the isotropic lamp (the one-term variant, whose series and ends skip the general loops).
 TEST_F(PegoraroGpu, VariantsAndDeferredFallbacksMatchTheCpu) {
     const std::string view = "lamp only", prefix = "views[lamp only].parameters.";
     struct Variant {
@@ -171,7 +172,9 @@ TEST_F(PegoraroGpu, VariantsAndDeferredFallbacksMatchTheCpu) {
     const std::vector<Variant> variants = {
         {"grey, no meshes", {"media[haze].sigma_s=[0.1,0.1,0.1]", "meshes=[]", prefix + "shadows=false"}, false},
         {"chromatic, meshes, shadows, deferred fallbacks", {}, true},
-        {"no fallback", {prefix + "fallback=never"}, false}};
+        {"no fallback", {prefix + "fallback=never"}, false},
+        {"isotropic phase and light (one term)",
+         {"media[haze].phase={\"type\":\"isotropic\"}", prefix + "fallback=never"}, false}};
     for (const Variant& v : variants) {
         SCOPED_TRACE(v.name);
         std::vector<std::string> gpu = v.overrides, cpu = v.overrides;
