@@ -248,7 +248,10 @@ TY_FUNC TY_R pegoraroEnd(TY_IN(TY_RS(PegoraroSeries)) s, TY_R H, TY_R v, TY_OUT(
 // and the antiderivative of e^(-H v) / (v - i)^j is -e^(-H v) (v - i)^(1-j) G_j(H (v - i)). The prefactor e^(H ua)
 // is folded into each end, e^(H (ua - v)) <= e^(-H sqrt(1 + ua^2)) <= 1, so nothing overflows. ub >= kInfinity means
 // the ray never ends. errorBound bounds the rounding error of the result (absolute), from the magnitudes of the sums.
-TY_FUNC TY_R pegoraroIntegral(TY_IN(TY_RS(PegoraroSeries)) s, TY_R H, TY_R ua, TY_R ub, TY_OUT(TY_R) errorBound) {
+// With farEnd = false the end at ub is left out, as for ub >= kInfinity: pegoraroIntegralToInfinity passes a constant
+// false, so that its caller has no code for that end (lavapipe would run it for every evaluation, taken or not).
+TY_FUNC TY_R pegoraroIntegralEnds(TY_IN(TY_RS(PegoraroSeries)) s, TY_R H, TY_R ua, TY_R ub, bool farEnd,
+                                  TY_OUT(TY_R) errorBound) {
     TY_R zero = TY_R(0.0f);
     errorBound = zero;
     if (s.terms < 1 || !(ub > ua)) return zero;
@@ -263,7 +266,7 @@ TY_FUNC TY_R pegoraroIntegral(TY_IN(TY_RS(PegoraroSeries)) s, TY_R H, TY_R ua, T
         sumAbs += e * m1 * (TY_R(kPegoraroExpintUlps) + abs(exponentA));
         coefficientAbs += e * m2;
     }
-    if (ub < TY_R(kInfinity)) {
+    if (farEnd && ub < TY_R(kInfinity)) {
         TY_R exponentB = H * (ua - ub) - H * sqrt(TY_R(1.0f) + ub * ub);  // H (ua - vb)
         if (exponentB > smallestExponent) {
             TY_R m1, m2;
@@ -280,6 +283,15 @@ TY_FUNC TY_R pegoraroIntegral(TY_IN(TY_RS(PegoraroSeries)) s, TY_R H, TY_R ua, T
     // magnitudes that made them.
     errorBound = TY_R(4.0f) * TY_R(TY_R_EPSILON) * (sumAbs + TY_R(kPegoraroCoefficientWeight) * coefficientAbs);
     return TY_R(4.0f) * result;
+}
+
+TY_FUNC TY_R pegoraroIntegral(TY_IN(TY_RS(PegoraroSeries)) s, TY_R H, TY_R ua, TY_R ub, TY_OUT(TY_R) errorBound) {
+    return pegoraroIntegralEnds(s, H, ua, ub, true, errorBound);
+}
+
+// I over [ua, infinity): a ray that never ends.
+TY_FUNC TY_R pegoraroIntegralToInfinity(TY_IN(TY_RS(PegoraroSeries)) s, TY_R H, TY_R ua, TY_OUT(TY_R) errorBound) {
+    return pegoraroIntegralEnds(s, H, ua, TY_R(kInfinity), false, errorBound);
 }
 
 // The integrand of I in the angle theta = atan(u) (du / (1 + u^2) = dtheta): with v = tan(theta) + sec(theta),

@@ -23,7 +23,11 @@ TY_FUNC TY_R pegoraroChannel(TY_IN(PegoraroFrame) f, TY_IN(TY_RS(PegoraroSeries)
     TY_R value = TY_R(0.0f);
     if (!quadrature) {
         TY_R errorBound;
+#ifdef TY_PEGORARO_NO_SURFACES  // nothing ends or shadows a ray: every interval runs to infinity
+        value = pegoraroIntegralToInfinity(s, H, ua, errorBound);
+#else
         value = pegoraroIntegral(s, H, ua, ub, errorBound);
+#endif
         quadrature = f.fallbackMode == kPegoraroFallbackAuto && errorBound > TY_R(f.fallbackTolerance) * abs(value);
     }
 #ifdef TY_PEGORARO_DEFERRED_FALLBACK
