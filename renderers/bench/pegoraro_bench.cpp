@@ -8,6 +8,8 @@
 //   medium (chromatic extinction) whose phase function has that order and an isotropic point light, size x size, one
 //   sample per pixel, shadows off: GPU time per pixel per light (ns) and frames per second, from the renders'
 //   timestamps (the first render compiles the pipeline and is not timed), and the pixels that fell back.
+// - BM_QuadratureGpu/order/size: the same with fallback = always (every evaluation by the quadrature), for the order
+//   where the quadrature would become the cheaper way on the GPU.
 #include "pegoraro/test/closed_form_cases.h"
 
 #include "tyndall/gpu/context.h"
@@ -78,7 +80,7 @@ Scene mediumOnlyScene(int order, int size = 256) {
     return scene;
 }
 
-void BM_TechniqueGpu(benchmark::State& state) {
+void techniqueGpu(benchmark::State& state, const std::string& fallback) {
     const int order = int(state.range(0));
     const int size = int(state.range(1));
     auto technique = createTechnique("pegoraro");
@@ -86,6 +88,7 @@ void BM_TechniqueGpu(benchmark::State& state) {
     request.scene = mediumOnlyScene(order, size);
     request.params = technique->defaultParams();
     request.params.set("device", std::string("gpu"));
+    request.params.set("fallback", fallback);
     request.params.set("supersampling", std::int64_t(1));
     request.params.set("shadows", false);
     request.params.set("hgTerms", std::int64_t(1));
@@ -105,6 +108,8 @@ void BM_TechniqueGpu(benchmark::State& state) {
     state.counters["fallbackPixels"] = fallbackPixels;
     state.SetLabel(precision);
 }
+
+void BM_TechniqueGpu(benchmark::State& state) { techniqueGpu(state, "auto"); }
 BENCHMARK(BM_TechniqueGpu)
     ->Args({0, 256})
     ->Args({1, 256})
@@ -116,6 +121,18 @@ BENCHMARK(BM_TechniqueGpu)
     ->Args({0, 512})  // the target: isotropic at >= 30 frames/s at 512 x 512 on lavapipe
     ->UseManualTime()
     ->Iterations(3)
+    ->Unit(benchmark::kMillisecond);
+
+// The same scene with every evaluation by the fallback quadrature (to quadratureTolerance, 1e-6), at 64 x 64: where
+// it would become cheaper than the closed form on the GPU.
+void BM_QuadratureGpu(benchmark::State& state) { techniqueGpu(state, "always"); }
+BENCHMARK(BM_QuadratureGpu)
+    ->Args({0, 64})
+    ->Args({4, 64})
+    ->Args({8, 64})
+    ->Args({16, 64})
+    ->UseManualTime()
+    ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace
