@@ -33,11 +33,11 @@ std::string shaderPath() {
 GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
 
 gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, bool box, int phaseKind, int lightCount,
-                                        bool surfaces, bool grey) {
+                                        bool surfaces, bool grey, bool gobos) {
     const int maxPlanes = planeCount <= 6 ? 6 : planeCount <= 8 ? 8 : shader::kWvdsMaxPlanes;
     const std::string key = std::to_string(estimator) + "-" + (box ? std::string("box") : std::to_string(planeCount)) +
                             "-" + std::to_string(phaseKind) + "-" + std::to_string(lightCount) +
-                            (surfaces ? "" : "-nosurfaces") + (grey ? "-grey" : "");
+                            (surfaces ? "" : "-nosurfaces") + (grey ? "-grey" : "") + (gobos ? "" : "-nogobos");
     auto it = kernels_.find(key);
     if (it != kernels_.end()) return *it->second;
     const auto start = std::chrono::steady_clock::now();
@@ -53,6 +53,7 @@ gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, bool box,
     if (box) defines += "#define TY_WVDS_BOX\n";
     if (!surfaces) defines += "#define TY_WVDS_NO_SURFACES\n";
     if (grey) defines += "#define TY_WVDS_GREY\n";
+    if (!gobos) defines += "#define TY_WVDS_NO_GOBOS\n";
     if (context_->device().shaderFloat64) defines += "#define TY_BVH_WORDS\n";
     source.insert(source.find('\n') + 1, defines + "#line 2\n");
     gpu::CompileResult compiled = gpu::compileGlslSource(source, shaderPath(), gpu::ShaderStage::Compute);
@@ -67,7 +68,9 @@ void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int s
     compileSeconds_ = 0.0;
     kernel_ = &kernel(scene.frame.estimator, scene.frame.planeCount, scene.box, scene.frame.phase.kind,
                       scene.frame.lightCount, scene.surfaces.triangleCount > 0,
-                      scene.frame.sigmaT.y == scene.frame.sigmaT.x && scene.frame.sigmaT.z == scene.frame.sigmaT.x);
+                      scene.frame.sigmaT.y == scene.frame.sigmaT.x && scene.frame.sigmaT.z == scene.frame.sigmaT.x,
+                      std::any_of(scene.lights.begin(), scene.lights.end(),
+                                  [](const shader::WvdsLight& l) { return l.goboCount > 0; }));
     gpu::Context& ctx = *context_;
     auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
     buffers_.clear();

@@ -34,7 +34,7 @@ public:
 private:
     // The variant for an estimator, a number of faces (or a box) and a phase function, compiled on first use.
     gpu::ComputeKernel& kernel(int estimator, int planeCount, bool box, int phaseKind, int lightCount, bool surfaces,
-                               bool grey);
+                               bool grey, bool gobos);
 
     std::shared_ptr<gpu::Context> context_;
     std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels_;

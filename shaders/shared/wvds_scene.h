@@ -124,7 +124,11 @@ TY_FUNC bool wvdsLitInterval(TY_IN(WvdsLight) light, TY_IN(vec3) origin, TY_IN(v
                              TY_OUT(float) a, TY_OUT(float) b) {
     a = tIn;
     b = tEnd;
+#ifdef TY_WVDS_NO_GOBOS
+    return a < b;
+#else
     return wvdsClip_float(light.goboFirst, light.goboCount, origin, dir, a, b);
+#endif
 }
 
 // V(t): 1 when nothing blocks the way from x to the light.
@@ -323,10 +327,12 @@ TY_FUNC WvdsTerms wvdsSample(TY_IN(WvdsFrame) f, int px, int py, uint index) {
             if (i >= f.lightCount) continue;
             WvdsLight light = wvdsLight(i);
             bool inBeam = true;
+#ifndef TY_WVDS_NO_GOBOS
             for (int p = 0; p < light.goboCount; ++p) {
                 vec4 plane = wvdsPlane(light.goboFirst + p);
                 if (dot(vec3(plane), xs) > plane.w) inBeam = false;
             }
+#endif
             if (!inBeam) continue;
             vec3 reflected = surfaceReflect(material, frame, -dir, light.toLight);
             if (reflected == vec3(0.0f)) continue;

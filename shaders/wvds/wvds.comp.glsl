@@ -8,6 +8,7 @@
 //   TY_PHASE_KIND k         the medium's phase function (kPhase* in phase.h): the other kinds are left out
 //   TY_WVDS_LIGHTS n        exactly n collimated lights: the loops over them run n times, not kWvdsMaxLights
 //   TY_WVDS_PLANES n        exactly n medium planes: the slab tests over the medium unroll
+//   TY_WVDS_NO_GOBOS        no light has a gobo: no beam clipping
 //   TY_WVDS_GREY            the medium's extinction is the same in every channel: one integral and one exponential
 //   TY_WVDS_NO_SURFACES     the scene has no triangles: no camera hits, shadow rays or surface shading (lavapipe runs
 //                           the code of a branch that no lane takes, so its absence pays even where nothing is hit)
