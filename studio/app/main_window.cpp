@@ -798,8 +798,8 @@ void MainWindow::waitForBackgroundWork() { background_->waitForDone(); }
 void MainWindow::inBackground(std::function<void()> work) {
     background_->start([work = std::move(work)] {
         // Below the GUI and no higher than the renders, which an edit is waiting for (at nice 5, the metrics of each
-        // progressive image took the CPU from the next pass). The pool's threads keep the policy.
-        runCurrentThreadWhenIdle();
+        // progressive image took the CPU from the next pass). The pool's threads keep the value.
+        lowerCurrentThreadPriority(10);
         work();
     });
 }

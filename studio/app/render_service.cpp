@@ -10,7 +10,6 @@
 #include <chrono>
 
 #ifdef __linux__
-#include <sched.h>
 #include <sys/resource.h>
 #include <unistd.h>
 #endif
@@ -26,19 +25,6 @@ void lowerCurrentThreadPriority(int nice) {
     if (errno == 0 && current < nice) setpriority(PRIO_PROCESS, self, nice);
 #else
     (void)nice;
-#endif
-}
-
-void runCurrentThreadWhenIdle() {
-#ifdef __linux__
-    // SCHED_IDLE: any thread of normal policy that wakes up preempts this one at once. Under the default policy even
-    // nice 19 lets a running task finish its slice (up to a few ms) before a woken GUI thread, X server or display
-    // driver thread runs, and a frame's present waits on a chain of such wake-ups. The policy belongs to the thread
-    // and is inherited by the threads it creates; the nice value stays as a fallback where the policy is refused.
-    lowerCurrentThreadPriority(19);
-    sched_param param{};
-    param.sched_priority = 0;
-    sched_setscheduler(0, SCHED_IDLE, &param);
 #endif
 }
 
@@ -109,7 +95,7 @@ void RenderService::run() {
     using Clock = std::chrono::steady_clock;
     // Renders run below the GUI: an edit's frame is drawn and the window keeps answering while they compute. The
     // renders themselves wait for nothing but the CPU, so their latency hardly changes (the GUI needs little of it).
-    runCurrentThreadWhenIdle();
+    lowerCurrentThreadPriority(10);
     for (;;) {
         std::shared_ptr<RenderTask> task;
         {

@@ -25,10 +25,6 @@ namespace tyndall::studio {
 // at the same lower priority. The display device's threads, which the GUI thread creates, keep the normal one.
 void lowerCurrentThreadPriority(int nice);
 
-// Renders and other background work run only when no thread of normal priority wants the CPU (SCHED_IDLE on Linux,
-// with nice 19 as well; a no-op elsewhere). Threads started later inherit it, as above.
-void runCurrentThreadWhenIdle();
-
 struct RenderTask {
     int view = 0;
     bool reference = false;
