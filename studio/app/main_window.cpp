@@ -496,6 +496,7 @@ void MainWindow::rebuildViews() {
     generation_.assign(project.views.size(), 0);
     referenceGeneration_.assign(project.views.size(), 0);
     pending_.assign(project.views.size(), false);
+    latestMetrics_.assign(project.views.size(), 0);
     referencePending_.assign(project.views.size(), false);
     partKeys_.clear();
     viewKeys_.clear();
@@ -688,7 +689,9 @@ void MainWindow::updateMetrics(int view) {
     const double exposure = f.exposure;
     const QRect region = state_.region.intersected(QRect(0, 0, image->width(), image->height()));
     ++metricsPending_;
-    inBackground([this, view, image, against, exposure, region] {
+    const quint64 request = ++metricsRequests_;
+    latestMetrics_[std::size_t(view)] = request;
+    inBackground([this, view, image, against, exposure, region, request] {
         std::optional<Metrics> whole, part;
         try {
             whole = computeMetrics(*image, *against, exposure);
@@ -696,11 +699,14 @@ void MainWindow::updateMetrics(int view) {
                 part = computeMetrics(*image, *against, exposure, {region.x(), region.y(), region.width(), region.height()});
         } catch (const std::exception&) {
         }
-        QMetaObject::invokeMethod(this, [this, view, image, against, whole, part] {
+        QMetaObject::invokeMethod(this, [this, view, image, against, whole, part, request] {
             --metricsPending_;
             if (view >= int(frames_.size())) return;
+            // Stale: a later request for this view (a new image, reference, exposure or region) may finish first, in
+            // the pool's order, and must not be overwritten by this one.
+            if (latestMetrics_[std::size_t(view)] != request) return;
             ViewFrame& f = frames_[std::size_t(view)];
-            if (f.image != image || comparand(f) != against) return;  // stale
+            if (f.image != image || comparand(f) != against) return;
             f.metrics = whole;
             f.regionMetrics = part;
             updateMetricsDock();

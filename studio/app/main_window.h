@@ -185,6 +185,8 @@ private:
     Recovery recovery_ = Recovery::Ask;
     bool opening_ = false;
     int metricsPending_ = 0;
+    quint64 metricsRequests_ = 0;           // metrics jobs started so far
+    std::vector<quint64> latestMetrics_;    // per view: the job whose result it shows (an older job's is dropped)
     QMenu* recentMenu_ = nullptr;
     void addRecent(const QString& path);
     std::map<quint64, QString> cachePathOf_;  // reference renders in flight: where their result is cached
