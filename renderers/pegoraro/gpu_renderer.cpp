@@ -114,7 +114,8 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
                                                &overflows,         list.get()};
     };
 
-    // `count` items of a pass; progress runs over [progressFrom, progressTo).
+    // `count` items of a pass; progress runs over [progressFrom, progressTo). The listed pass starts with a smaller
+    // slice: each of its samples runs the quadrature somewhere (up to ~13 ms each on lavapipe).
     double longestMs = 0.0, totalMs = 0.0;
     auto pass = [&](gpu::ComputeKernel& k, std::uint64_t count, bool listed, double progressFrom, double progressTo) {
         const std::vector<const gpu::Buffer*> buffers = bindings();
@@ -129,7 +130,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
                     k.record(cmd, buffers, &push, std::uint32_t((n + kGroupSize - 1) / kGroupSize));
                     gpu::computeToComputeBarrier(cmd);
                 },
-                callbacks.cancel, 10.0, 256);
+                callbacks.cancel, 10.0, listed ? 16 : 256);
         } catch (...) {
             k.resetDescriptors();
             throw;
