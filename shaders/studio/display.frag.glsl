@@ -5,8 +5,10 @@ layout(std430, set = 0, binding = 0) readonly buffer Frame { uint texels[]; };
 layout(push_constant) uniform Push {
     uint width;
     uint height;
-    uint srgbTarget;  // 1: the swapchain encodes sRGB itself, so decode the frame's sRGB values first
 } push;
+// True when the swapchain encodes sRGB itself, so the frame's sRGB values are decoded first. A constant, so that the
+// usual UNORM target compiles without the decode (a software rasterizer pays for code in untaken branches too).
+layout(constant_id = 0) const bool kSrgbTarget = false;
 layout(location = 0) out vec4 colour;
 
 float decode(float c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
@@ -18,6 +20,6 @@ void main() {
         return;
     }
     vec4 c = unpackUnorm4x8(texels[p.y * push.width + p.x]);
-    if (push.srgbTarget != 0u) c.rgb = vec3(decode(c.r), decode(c.g), decode(c.b));
+    if (kSrgbTarget) c.rgb = vec3(decode(c.r), decode(c.g), decode(c.b));
     colour = vec4(c.rgb, 1.0);
 }

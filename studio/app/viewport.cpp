@@ -21,7 +21,7 @@ namespace tyndall::studio {
 namespace {
 
 struct Push {
-    std::uint32_t width, height, srgbTarget;
+    std::uint32_t width, height;
 };
 
 std::vector<std::uint32_t> compileStage(const std::string& name, gpu::ShaderStage stage) {
@@ -39,7 +39,10 @@ bool isSrgb(VkFormat format) {
     return format == VK_FORMAT_B8G8R8A8_SRGB || format == VK_FORMAT_R8G8B8A8_SRGB || format == VK_FORMAT_A8B8G8R8_SRGB_PACK32;
 }
 
-// Draws the viewport's frame: a storage buffer per frame in flight, read by a full-screen triangle.
+// Draws the viewport's frame: a storage buffer per frame in flight, read by a full-screen triangle, in a render pass of
+// its own. QVulkanWindow's default pass clears a colour and a depth-stencil attachment that this draw never needs: every
+// pixel is written once. On a software device each of those clears, and each sRGB decode and encode, costs a pass over
+// the window on the cores the renders share, with the GUI thread waiting for it in the present.
 class ViewportRenderer final : public QVulkanWindowRenderer {
 public:
     explicit ViewportRenderer(Viewport* window) : window_(window) {}
@@ -48,6 +51,7 @@ public:
         device_ = window_->device();
         df_ = window_->vulkanInstance()->deviceFunctions(device_);
         try {
+            createRenderPass();
             createPipeline();
         } catch (const std::exception& e) {
             window_->setFailure(QString::fromStdString(e.what()));
@@ -61,6 +65,18 @@ public:
         buffers_.assign(std::size_t(frames), VK_NULL_HANDLE);
         memories_.assign(std::size_t(frames), VK_NULL_HANDLE);
         mapped_.assign(std::size_t(frames), nullptr);
+        framebuffers_.assign(std::size_t(window_->swapChainImageCount()), VK_NULL_HANDLE);
+        for (int i = 0; i < window_->swapChainImageCount() && renderPass_; ++i) {
+            VkImageView view = window_->swapChainImageView(i);
+            VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+            info.renderPass = renderPass_;
+            info.attachmentCount = 1;
+            info.pAttachments = &view;
+            info.width = std::uint32_t(size.width());
+            info.height = std::uint32_t(size.height());
+            info.layers = 1;
+            check(df_->vkCreateFramebuffer(device_, &info, nullptr, &framebuffers_[std::size_t(i)]), "vkCreateFramebuffer");
+        }
         for (int i = 0; i < frames && pipeline_; ++i) {
             VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
             info.size = bytes_;
@@ -92,9 +108,12 @@ public:
             }
             if (buffers_[i]) df_->vkDestroyBuffer(device_, buffers_[i], nullptr);
         }
+        for (VkFramebuffer framebuffer : framebuffers_)
+            if (framebuffer) df_->vkDestroyFramebuffer(device_, framebuffer, nullptr);
         buffers_.clear();
         memories_.clear();
         mapped_.clear();
+        framebuffers_.clear();
     }
 
     void releaseResources() override {
@@ -102,6 +121,8 @@ public:
         if (layout_) df_->vkDestroyPipelineLayout(device_, layout_, nullptr);
         if (pool_) df_->vkDestroyDescriptorPool(device_, pool_, nullptr);
         if (setLayout_) df_->vkDestroyDescriptorSetLayout(device_, setLayout_, nullptr);
+        if (renderPass_) df_->vkDestroyRenderPass(device_, renderPass_, nullptr);
+        renderPass_ = VK_NULL_HANDLE;
         pipeline_ = VK_NULL_HANDLE;
         layout_ = VK_NULL_HANDLE;
         pool_ = VK_NULL_HANDLE;
@@ -111,21 +132,15 @@ public:
     void startNextFrame() override {
         const QSize size = window_->swapChainImageSize();
         const int f = window_->currentFrame();
-        if (pipeline_ && std::size_t(f) < mapped_.size()) upload(static_cast<std::uint8_t*>(mapped_[std::size_t(f)]), size);
-
-        VkClearValue clear[3]{};
-        clear[0].color = {{0.11f, 0.11f, 0.12f, 1.0f}};
-        clear[1].depthStencil = {1.0f, 0};
-        clear[2].color = clear[0].color;
-        VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-        begin.renderPass = window_->defaultRenderPass();
-        begin.framebuffer = window_->currentFramebuffer();
-        begin.renderArea.extent = {std::uint32_t(size.width()), std::uint32_t(size.height())};
-        begin.clearValueCount = window_->sampleCountFlagBits() > VK_SAMPLE_COUNT_1_BIT ? 3 : 2;
-        begin.pClearValues = clear;
+        const std::size_t image = std::size_t(window_->currentSwapChainImageIndex());
         VkCommandBuffer cmd = window_->currentCommandBuffer();
-        df_->vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
-        if (pipeline_ && std::size_t(f) < sets_.size()) {
+        if (pipeline_ && std::size_t(f) < mapped_.size() && image < framebuffers_.size()) {
+            upload(static_cast<std::uint8_t*>(mapped_[std::size_t(f)]), size);
+            VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+            begin.renderPass = renderPass_;
+            begin.framebuffer = framebuffers_[image];
+            begin.renderArea.extent = {std::uint32_t(size.width()), std::uint32_t(size.height())};
+            df_->vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
             df_->vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
             VkViewport viewport{0.0f, 0.0f, float(size.width()), float(size.height()), 0.0f, 1.0f};
             VkRect2D scissor{{0, 0}, {std::uint32_t(size.width()), std::uint32_t(size.height())}};
@@ -133,12 +148,25 @@ public:
             df_->vkCmdSetScissor(cmd, 0, 1, &scissor);
             df_->vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &sets_[std::size_t(f)], 0,
                                          nullptr);
-            const Push push{std::uint32_t(size.width()), std::uint32_t(size.height()),
-                            isSrgb(window_->colorFormat()) ? 1u : 0u};
+            const Push push{std::uint32_t(size.width()), std::uint32_t(size.height())};
             df_->vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(Push), &push);
             df_->vkCmdDraw(cmd, 3, 1, 0, 0);
+            df_->vkCmdEndRenderPass(cmd);
+        } else {
+            // Without a pipeline (its failure is shown in the window's place), the default pass clears the image.
+            VkClearValue clear[3]{};
+            clear[0].color = {{0.11f, 0.11f, 0.12f, 1.0f}};
+            clear[1].depthStencil = {1.0f, 0};
+            clear[2].color = clear[0].color;
+            VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+            begin.renderPass = window_->defaultRenderPass();
+            begin.framebuffer = window_->currentFramebuffer();
+            begin.renderArea.extent = {std::uint32_t(size.width()), std::uint32_t(size.height())};
+            begin.clearValueCount = window_->sampleCountFlagBits() > VK_SAMPLE_COUNT_1_BIT ? 3 : 2;
+            begin.pClearValues = clear;
+            df_->vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+            df_->vkCmdEndRenderPass(cmd);
         }
-        df_->vkCmdEndRenderPass(cmd);
         window_->countPresented();
         window_->frameReady();
         trace("frame %d submitted", window_->framesPresented());
@@ -153,10 +181,14 @@ private:
     void upload(std::uint8_t* out, QSize size) {
         QImage frame = window_->frame();
         if (frame.format() != QImage::Format_RGBA8888) frame = frame.convertToFormat(QImage::Format_RGBA8888);
-        std::memset(out, 0, std::size_t(bytes_));
+        const std::size_t rowBytes = std::size_t(size.width()) * 4;
         const int w = std::min(frame.width(), size.width()), h = std::min(frame.height(), size.height());
-        for (int y = 0; y < h; ++y)
-            std::memcpy(out + std::size_t(y) * size.width() * 4, frame.constScanLine(y), std::size_t(w) * 4);
+        for (int y = 0; y < h; ++y) {
+            std::uint8_t* row = out + std::size_t(y) * rowBytes;
+            std::memcpy(row, frame.constScanLine(y), std::size_t(w) * 4);
+            std::memset(row + std::size_t(w) * 4, 0, rowBytes - std::size_t(w) * 4);
+        }
+        std::memset(out + std::size_t(h) * rowBytes, 0, std::size_t(size.height() - h) * rowBytes);
     }
 
     VkShaderModule module(const std::vector<std::uint32_t>& spirv) {
@@ -166,6 +198,39 @@ private:
         VkShaderModule m;
         check(df_->vkCreateShaderModule(device_, &info, nullptr, &m), "vkCreateShaderModule");
         return m;
+    }
+
+    // One colour attachment over the swapchain image, not cleared (the draw writes every pixel), ready to present.
+    void createRenderPass() {
+        VkAttachmentDescription colour{};
+        colour.format = window_->colorFormat();
+        colour.samples = VK_SAMPLE_COUNT_1_BIT;
+        colour.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+        colour.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        colour.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+        colour.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        colour.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        colour.finalLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+        VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+        VkSubpassDescription subpass{};
+        subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+        subpass.colorAttachmentCount = 1;
+        subpass.pColorAttachments = &ref;
+        // The image is written once the acquire semaphore, which QVulkanWindow waits for at this stage, is signalled.
+        VkSubpassDependency acquired{};
+        acquired.srcSubpass = VK_SUBPASS_EXTERNAL;
+        acquired.dstSubpass = 0;
+        acquired.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+        acquired.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+        acquired.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+        VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+        info.attachmentCount = 1;
+        info.pAttachments = &colour;
+        info.subpassCount = 1;
+        info.pSubpasses = &subpass;
+        info.dependencyCount = 1;
+        info.pDependencies = &acquired;
+        check(df_->vkCreateRenderPass(device_, &info, nullptr, &renderPass_), "vkCreateRenderPass");
     }
 
     void createPipeline() {
@@ -210,6 +275,11 @@ private:
         stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
         stages[1].module = fs;
         stages[1].pName = "main";
+        // Whether the target encodes sRGB itself, as a constant: the shader's decode is compiled in only when it does.
+        const VkBool32 srgbTarget = isSrgb(window_->colorFormat()) ? VK_TRUE : VK_FALSE;
+        const VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)};
+        const VkSpecializationInfo specialization{1, &entry, sizeof(VkBool32), &srgbTarget};
+        stages[1].pSpecializationInfo = &specialization;
         VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
         VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
         assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
@@ -222,7 +292,7 @@ private:
         raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
         raster.lineWidth = 1.0f;
         VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-        multisample.rasterizationSamples = window_->sampleCountFlagBits();
+        multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
         VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
         VkPipelineColorBlendAttachmentState blendAttachment{};
         blendAttachment.colorWriteMask = 0xF;
@@ -245,7 +315,7 @@ private:
         info.pColorBlendState = &blend;
         info.pDynamicState = &dynamic;
         info.layout = layout_;
-        info.renderPass = window_->defaultRenderPass();
+        info.renderPass = renderPass_;
         const VkResult r = df_->vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
         df_->vkDestroyShaderModule(device_, vs, nullptr);
         df_->vkDestroyShaderModule(device_, fs, nullptr);
@@ -259,6 +329,8 @@ private:
     VkDescriptorPool pool_ = VK_NULL_HANDLE;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
     VkPipeline pipeline_ = VK_NULL_HANDLE;
+    VkRenderPass renderPass_ = VK_NULL_HANDLE;
+    std::vector<VkFramebuffer> framebuffers_;  // one per swapchain image
     std::vector<VkDescriptorSet> sets_;
     std::vector<VkBuffer> buffers_;
     std::vector<VkDeviceMemory> memories_;
@@ -269,6 +341,9 @@ private:
 }  // namespace
 
 Viewport::Viewport() {
+    // The composed frame holds display-encoded (sRGB) bytes: a UNORM target shows them as they are. An sRGB target
+    // (Mesa lists it first) would make the shader decode every pixel and the rasterizer encode it again.
+    setPreferredColorFormats({VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_A8B8G8R8_UNORM_PACK32});
     frameTimer_.setSingleShot(true);
     connect(&frameTimer_, &QTimer::timeout, this, [this] { requestUpdate(); });
     // QVulkanWindow always asks for FIFO presentation, which blocks the GUI thread until the next vertical blank: up
