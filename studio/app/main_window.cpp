@@ -622,7 +622,7 @@ bool MainWindow::settled() const {
     for (bool p : referencePending_)
         if (p) return false;
     return renderer_->idle() && dirtyViews_.empty() && dirtyParts_.empty() && !debounce_.isActive() &&
-           metricsPending_ == 0;
+           metricsPending_ == 0 && convergencePending_ == 0;
 }
 
 void MainWindow::onOutput(const RenderOutput& out) {
@@ -716,32 +716,66 @@ void MainWindow::updateMetrics(int view) {
 }
 
 void MainWindow::updateConvergence() {
-    // relMSE alone (no tonemapping), once per progressive image and reference: the GUI thread must stay free.
-    auto relMSE = [](const Image& a, const Image& r) {
-        double sum = 0.0;
-        for (int y = 0; y < a.height(); ++y)
-            for (int x = 0; x < a.width(); ++x)
-                for (int c = 0; c < 3; ++c) {
-                    const double ref = r.at(x, y, c), d = a.at(x, y, c) - ref;
-                    sum += d * d / (ref * ref + 0.01);
-                }
-        return sum / (3.0 * a.width() * a.height());
+    // The relMSE of each progressive image against its view's reference, without tonemapping. A new reference makes
+    // every image of its view stale, and each costs ~4 ms at 512 x 512, so they are computed in the background pool
+    // (the GUI thread computed them before: 5 ms per image in a slider drag, more as a reference refined).
+    struct Item {
+        std::size_t view, index;
+        std::shared_ptr<const Image> image, reference;
+        double relMSE = 0.0;
     };
+    std::vector<Item> items;
+    for (std::size_t i = 0; i < frames_.size(); ++i) {
+        const std::shared_ptr<const Image>& reference = frames_[i].reference;
+        if (!reference) continue;
+        for (std::size_t k = 0; k < progress_[i].size(); ++k) {
+            Progress& p = progress_[i][k];
+            if (p.image->width() != reference->width() || p.image->height() != reference->height()) continue;
+            if (p.against == reference || p.requested == reference) continue;
+            p.requested = reference;
+            items.push_back({i, k, p.image, reference});
+        }
+    }
+    plotConvergence();
+    if (items.empty()) return;
+    ++convergencePending_;
+    inBackground([this, items = std::move(items)]() mutable {
+        for (Item& item : items) {
+            const Image &a = *item.image, &r = *item.reference;
+            double sum = 0.0;
+            for (int y = 0; y < a.height(); ++y)
+                for (int x = 0; x < a.width(); ++x)
+                    for (int c = 0; c < 3; ++c) {
+                        const double ref = r.at(x, y, c), d = a.at(x, y, c) - ref;
+                        sum += d * d / (ref * ref + 0.01);  // relMSE, as in metrics.h
+                    }
+            item.relMSE = sum / (3.0 * a.width() * a.height());
+        }
+        QMetaObject::invokeMethod(this, [this, items = std::move(items)] {
+            --convergencePending_;
+            for (const Item& item : items) {
+                // The view may have started a new render (its images cleared) since the job was made.
+                if (item.view >= progress_.size() || item.index >= progress_[item.view].size()) continue;
+                Progress& p = progress_[item.view][item.index];
+                if (p.image != item.image) continue;
+                p.relMSE = item.relMSE;
+                p.against = item.reference;
+                if (p.requested == item.reference) p.requested.reset();
+            }
+            plotConvergence();
+        }, Qt::QueuedConnection);
+    });
+}
+
+void MainWindow::plotConvergence() {
     std::vector<QString> names;
     std::vector<std::vector<ConvergencePoint>> points;
     for (std::size_t i = 0; i < frames_.size(); ++i) {
-        const ViewFrame& f = frames_[i];
-        names.push_back(f.name);
+        names.push_back(frames_[i].name);
         points.emplace_back();
-        if (!f.reference) continue;
-        for (Progress& p : progress_[i]) {
-            if (p.image->width() != f.reference->width() || p.image->height() != f.reference->height()) continue;
-            if (p.against != f.reference.get()) {
-                p.relMSE = relMSE(*p.image, *f.reference);
-                p.against = f.reference.get();
-            }
-            points.back().push_back({p.spp, p.seconds, p.relMSE});
-        }
+        if (!frames_[i].reference) continue;
+        for (const Progress& p : progress_[i])
+            if (p.relMSE >= 0.0) points.back().push_back({p.spp, p.seconds, p.relMSE});
     }
     convergence_->setSeries(names, points);
 }

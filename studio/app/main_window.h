@@ -174,10 +174,13 @@ private:
         int spp = 0;
         double seconds = 0.0;
         std::shared_ptr<const Image> image;
-        double relMSE = -1.0;           // against `against`, computed once
-        const Image* against = nullptr;
+        double relMSE = -1.0;                    // against `against` (-1: not yet); plotted until a newer one arrives
+        std::shared_ptr<const Image> against;    // the reference relMSE was computed against
+        std::shared_ptr<const Image> requested;  // the reference of the job in flight for it, if any
     };
     std::vector<std::vector<Progress>> progress_;
+    int convergencePending_ = 0;  // relMSE jobs in the background pool
+    void plotConvergence();
     QPoint regionStart_;
     QTimer probeTimer_;
     QPointF probePosition_;

@@ -356,6 +356,19 @@ private slots:
         QTRY_VERIFY(window_->settled());
         for (const ViewFrame& f : window_->frames())
             QVERIFY2(f.regionMetrics.has_value(), qPrintable(f.name));
+        // The relMSE of each point is computed in the background pool: a view's last point (its final image) is the
+        // relMSE its metrics report against the same reference.
+        int checked = 0;
+        for (std::size_t i = 0; i < window_->frames().size(); ++i) {
+            const ViewFrame& f = window_->frames()[i];
+            QCPGraph* graph = window_->convergencePlot()->plot()->graph(int(i));
+            if (!graph || graph->dataCount() == 0 || !f.metrics || f.snapshot) continue;
+            const double last = (graph->data()->constEnd() - 1)->value;
+            QVERIFY2(std::abs(last - f.metrics->relMSE) <= 1e-6 * f.metrics->relMSE,
+                     qPrintable(QString("%1: plotted %2, metrics %3").arg(f.name).arg(last).arg(f.metrics->relMSE)));
+            ++checked;
+        }
+        QVERIFY(checked >= 3);
     }
 
     // A light's intensity from the scene panel re-renders the views whose part holds that light (and their references)
