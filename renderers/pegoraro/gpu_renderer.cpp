@@ -81,7 +81,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     variant.useDouble = useDouble;
     variant.shadows = scene.frame.shadows != 0;
     variant.surfaces = scene.triangleCount > 0;
-    variant.grey = scene.frame.sigmaT.x == scene.frame.sigmaT.y && scene.frame.sigmaT.x == scene.frame.sigmaT.z;
+    variant.grey = shader::pegoraroGrey(scene.frame);  // the shared test (no TY_PEGORARO_GREY here: the frame's values)
     variant.deferredFallback = scene.frame.fallbackMode != shader::kPegoraroFallbackAlways;
     const auto compileStart = std::chrono::steady_clock::now();
     gpu::ComputeKernel& first = kernel(variant);

@@ -68,7 +68,7 @@ void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int s
     compileSeconds_ = 0.0;
     kernel_ = &kernel(scene.frame.estimator, scene.frame.planeCount, scene.box, scene.frame.phase.kind,
                       scene.frame.lightCount, scene.surfaces.triangleCount > 0,
-                      scene.frame.sigmaT.y == scene.frame.sigmaT.x && scene.frame.sigmaT.z == scene.frame.sigmaT.x,
+                      shader::wvdsGrey(scene.frame),
                       std::any_of(scene.lights.begin(), scene.lights.end(),
                                   [](const shader::WvdsLight& l) { return l.goboCount > 0; }));
     gpu::Context& ctx = *context_;
