@@ -97,6 +97,7 @@ void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const Rende
     std::vector<const gpu::Buffer*> bindings;
     for (const auto& b : buffers_)
         bindings.push_back(b.get());
+    std::uint64_t& sliceSize = sliceSizes_.try_emplace(&k, 1024).first->second;
     try {
         for (std::uint32_t index = first; index < end; ++index) {
             // One dispatch covers each pixel at most once, so the read-modify-write of its accumulators never races.
@@ -107,7 +108,8 @@ void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const Rende
                     k.record(cmd, bindings, &push, std::uint32_t((count + kGroupSize - 1) / kGroupSize));
                     gpu::computeToComputeBarrier(cmd);
                 },
-                callbacks.cancel, 10.0, 1024);
+                callbacks.cancel, 10.0, sliceSize);
+            sliceSize = stats.nextSlice;
             longestSliceMs_ = std::max(longestSliceMs_, stats.longestMs);
             gpuMs_ += stats.totalMs;
             k.resetDescriptors();

@@ -33,6 +33,26 @@ TEST_F(GpuTest, SlicedWorkCoversEveryItemOnceAndKeepsSlicesShort) {
     EXPECT_LT(stats.totalMs / stats.slices, 10.0);
 }
 
+TEST_F(GpuTest, AnotherRunStartsAtTheMeasuredSliceSize) {
+    constexpr uint32_t n = 1 << 16;
+    Buffer data(context(), n * 4);
+    data.upload(std::vector<float>(n, 0.25f));
+    ComputeKernel kernel(context(), loadSpirv("busy_loop"), 1, 12, "busy_loop");
+    std::vector<int> covered(n / 64, 0);
+    auto record = [&](VkCommandBuffer cmd, uint64_t begin, uint64_t count) {
+        BusyPush push{n, uint32_t(begin * 64), 2000};
+        kernel.record(cmd, {&data}, &push, uint32_t(count));
+        for (uint64_t i = begin; i < begin + count; ++i) covered[i] += 1;
+    };
+    const SliceStats first = runSliced(context(), n / 64, record);
+    ASSERT_GT(first.nextSlice, 1u) << "the measured size of a slice of this work is several items";
+    const SliceStats second = runSliced(context(), n / 64, record, nullptr, 10.0, first.nextSlice);
+    kernel.resetDescriptors();
+    for (uint32_t i = 0; i < n / 64; ++i) ASSERT_EQ(covered[i], 2) << "item " << i;
+    // The first run grows from one item by doublings; the second starts where the first ended.
+    EXPECT_LT(second.slices, first.slices);
+}
+
 TEST_F(GpuTest, CancelStopsBetweenSlices) {
     constexpr uint32_t n = 1 << 16;
     Buffer data(context(), n * 4);

@@ -14,6 +14,9 @@ struct SliceStats {
     int slices = 0;
     double longestMs = 0.0;  // GPU time of the longest slice (wall time where the queue has no timestamps)
     double totalMs = 0.0;
+    // The size the next slice would have had: the firstSlice for another run of the same work (the next sample of
+    // an image), so that it starts at its measured size instead of growing to it again from a small first slice.
+    std::uint64_t nextSlice = 1;
 };
 
 // Records work items [begin, begin + count) into the command buffer.
