@@ -32,12 +32,13 @@ std::string shaderPath() {
 
 GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
 
-gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, bool box, int phaseKind, int lightCount,
-                                        bool surfaces, bool grey, bool gobos) {
+gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, int planeTotal, bool box, int phaseKind,
+                                        int lightCount, bool surfaces, bool grey, bool gobos) {
     const int maxPlanes = planeCount <= 6 ? 6 : planeCount <= 8 ? 8 : shader::kWvdsMaxPlanes;
     const std::string key = std::to_string(estimator) + "-" + (box ? std::string("box") : std::to_string(planeCount)) +
-                            "-" + std::to_string(phaseKind) + "-" + std::to_string(lightCount) +
-                            (surfaces ? "" : "-nosurfaces") + (grey ? "-grey" : "") + (gobos ? "" : "-nogobos");
+                            "-" + std::to_string(planeTotal) + "-" + std::to_string(phaseKind) + "-" +
+                            std::to_string(lightCount) + (surfaces ? "" : "-nosurfaces") + (grey ? "-grey" : "") +
+                            (gobos ? "" : "-nogobos");
     auto it = kernels_.find(key);
     if (it != kernels_.end()) return *it->second;
     const auto start = std::chrono::steady_clock::now();
@@ -50,24 +51,25 @@ gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, bool box,
                           std::to_string(maxPlanes) + "\n#define TY_PHASE_KIND " + std::to_string(phaseKind) +
                           "\n#define TY_WVDS_LIGHTS " + std::to_string(lightCount) + "\n#define TY_WVDS_PLANES " +
                           std::to_string(planeCount) + "\n";
+    if (planeTotal > 0) defines += "#define TY_WVDS_PLANE_TOTAL " + std::to_string(planeTotal) + "\n";
     if (box) defines += "#define TY_WVDS_BOX\n";
     if (!surfaces) defines += "#define TY_WVDS_NO_SURFACES\n";
     if (grey) defines += "#define TY_WVDS_GREY\n";
     if (!gobos) defines += "#define TY_WVDS_NO_GOBOS\n";
-    if (context_->device().shaderFloat64) defines += "#define TY_BVH_WORDS\n";
+    if (context_->device().shaderFloat64) defines += "#define TY_BVH_WORDS\n#define TY_ACCUMULATOR_WORDS\n";
     source.insert(source.find('\n') + 1, defines + "#line 2\n");
     gpu::CompileResult compiled = gpu::compileGlslSource(source, shaderPath(), gpu::ShaderStage::Compute);
     if (!compiled.ok) throw gpu::ShaderError(*compiled.error);
-    auto k = std::make_unique<gpu::ComputeKernel>(*context_, compiled.spirv, 8, std::uint32_t(sizeof(Push)),
-                                                  "wvds_" + key);
+    auto k =
+        std::make_unique<gpu::ComputeKernel>(*context_, compiled.spirv, 8, std::uint32_t(sizeof(Push)), "wvds_" + key);
     compileSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return *kernels_.emplace(key, std::move(k)).first->second;
 }
 
 void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int stride, int ratioLights) {
     compileSeconds_ = 0.0;
-    kernel_ = &kernel(scene.frame.estimator, scene.frame.planeCount, scene.box, scene.frame.phase.kind,
-                      scene.frame.lightCount, scene.surfaces.triangleCount > 0,
+    kernel_ = &kernel(scene.frame.estimator, scene.frame.planeCount, int(scene.planes.size()), scene.box,
+                      scene.frame.phase.kind, scene.frame.lightCount, scene.surfaces.triangleCount > 0,
                       shader::wvdsGrey(scene.frame),
                       std::any_of(scene.lights.begin(), scene.lights.end(),
                                   [](const shader::WvdsLight& l) { return l.goboCount > 0; }));

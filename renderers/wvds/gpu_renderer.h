@@ -32,9 +32,10 @@ public:
     double compileSeconds() const { return compileSeconds_; }  // of the current render's variant (0 when cached)
 
 private:
-    // The variant for an estimator, a number of faces (or a box) and a phase function, compiled on first use.
-    gpu::ComputeKernel& kernel(int estimator, int planeCount, bool box, int phaseKind, int lightCount, bool surfaces,
-                               bool grey, bool gobos);
+    // The variant for an estimator, a number of faces (or a box), a phase function, a number of lights and of
+    // planes in all (the medium's and the gobos'), compiled on first use.
+    gpu::ComputeKernel& kernel(int estimator, int planeCount, int planeTotal, bool box, int phaseKind, int lightCount,
+                               bool surfaces, bool grey, bool gobos);
 
     std::shared_ptr<gpu::Context> context_;
     std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels_;

@@ -29,8 +29,8 @@ SliceStats runSliced(Context& context, std::uint64_t total, const SliceRecorder&
         if (2 * count < planned && stats.slices > 1) break;
         // Size the next slice from the dearest cost per item of the last three slices, for 60 % of the target, and
         // grow at most 2x at a time: work is rarely uniform (an image's rows with a medium or a sphere cost twice its
-        // sky's on lavapipe), and a slice sized from cheaper predecessors overshoots by that ratio (WVDS's longest slice
-        // at 512 x 512 went from 21 to 10 ms). Shrinking is immediate. One item is never split: a slice is never
+        // sky's on lavapipe), and a slice sized from cheaper predecessors overshoots by that ratio (WVDS's longest
+        // slice at 512 x 512 went from 21 to 10 ms). Shrinking is immediate. One item is never split: a slice is never
         // shorter than its dearest item (a Pegoraro sample that falls back to quadrature takes up to ~13 ms).
         recentPerItem[stats.slices % 3] = ms / double(count);
         const double perItem = std::max(recentPerItem[0], std::max(recentPerItem[1], recentPerItem[2]));

@@ -556,7 +556,8 @@ using WvdsGpu = tyndall::test::TechniqueGpuTest;
 // shadow ray grazes an edge and the two sides decide differently (a handful of pixels). Bound: relMSE <= 1e-8 and
 // 99 % of the pixels within 1e-4 relative, for every estimator and with two lights. The GPU compiles a variant per
 // scene (the box's closed-form envelope, grey or chromatic extinction, with or without meshes), so the views cover
-// each: the Fig. 6 box is grey; a chromatic medium and a scene without meshes are overrides.
+// each: the Fig. 6 box is grey, the polyhedron takes the general envelope; a chromatic medium and a scene without
+// meshes are overrides.
 TEST_F(WvdsGpu, GpuAgreesWithCpu) {
     struct Variant {
         const char* view;
@@ -564,6 +565,7 @@ TEST_F(WvdsGpu, GpuAgreesWithCpu) {
     };
     const std::vector<Variant> variants = {
         {"mcwvds", {}}, {"reds", {}}, {"rees", {}}, {"rm", {}}, {"mcds", {}}, {"analytic", {}}, {"two lights", {}},
+        {"polyhedron", {}},
         {"analytic", {"media[0].sigma_a=[0.05,0.15,0.3]"}}, {"reds", {"media[0].sigma_a=[0.05,0.15,0.3]"}},
         {"analytic", {"meshes=[]"}}, {"mcwvds", {"meshes=[]"}}};
     for (const Variant& variant : variants) {
