@@ -52,12 +52,15 @@ void storeAccumulator(uint i, vec4 v) { accumulators[i] = v; }
 void addToAccumulator(uint i, vec4 v) { storeAccumulator(i, loadAccumulator(i) + v); }
 
 layout(push_constant) uniform Push {
-    uint first;   // first pixel of this dispatch
-    uint end;     // one past the last pixel of this dispatch: the next slice adds the pixels after it
+    uint first;   // first work item of this dispatch (see main for items and pixels)
+    uint end;     // one past its last item: the next slice adds the items after it
     uint width;
     uint index;   // the camera sample every pixel adds
     uint stride;  // vec4s per pixel and half
     uint ratioLights;
+    uint pixels;       // width * height
+    uint groups;       // pixel groups of 64: (pixels + 63) / 64
+    uint groupStride;  // coprime with groups
 } push;
 
 // Lavapipe loads from a storage buffer with one scalar load only outside control flow (where it knows invocation 0
@@ -92,8 +95,14 @@ void main() {
     for (int i = 0; i < TY_WVDS_LIGHTS; ++i)
         sceneLights[i] = lights[i];
 #endif
-    uint pixel = push.first + gl_GlobalInvocationID.x;
-    if (pixel >= push.end) return;
+    // Work items run through the image's groups of 64 pixels with a stride coprime with their count (a bijection),
+    // so that any run of items, the slice a dispatch covers, samples the whole image and costs the same per item.
+    // Slices are sized from the last ones' cost per item; in image order they grew through a cheap sky into a slice
+    // of the dear rows with the sphere and the box, twice as long as intended. Within a group, pixels stay adjacent.
+    uint item = push.first + gl_GlobalInvocationID.x;
+    if (item >= push.end) return;
+    uint pixel = ((item >> 6u) * push.groupStride % push.groups) * 64u + (item & 63u);
+    if (pixel >= push.pixels) return;
     int px = int(pixel % push.width), py = int(pixel / push.width);
     WvdsTerms terms = wvdsSample(sceneFrame, px, py, push.index);
     uint base = (pixel * 2u + (push.index & 1u)) * push.stride;
