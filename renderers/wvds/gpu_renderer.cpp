@@ -16,26 +16,17 @@ namespace {
 constexpr std::uint32_t kGroupSize = 64;
 
 struct Push {
-    std::uint32_t first;
-    std::uint32_t end;  // one past the last pixel of this dispatch (its groups may reach beyond: they must not add)
+    std::uint32_t first;  // work items, see the shader
+    std::uint32_t end;    // one past the last item of this dispatch (its groups may reach beyond: they must not add)
     std::uint32_t width;
     std::uint32_t index;
     std::uint32_t stride;
     std::uint32_t ratioLights;
     std::uint32_t pixels;
-    std::uint32_t groups;
-    std::uint32_t groupStride;
+    std::uint32_t bandGroups;  // groups of 64 pixels in each of the kBands bands that work items take in turn
 };
 
-// A stride through `groups` that is coprime with it: the first of a few primes that does not divide it (a number
-// below 2^26 is not divisible by all four: their product exceeds it). Primes near 100 spread consecutive items over
-// the image, and the shader's group * stride stays within 32 bits below kMaxGroups.
-constexpr std::uint32_t kMaxGroups = 0xFFFFFFFFu / 107u;
-std::uint32_t groupStrideFor(std::uint32_t groups) {
-    for (std::uint32_t p : {97u, 101u, 103u, 107u})
-        if (groups % p != 0) return p;
-    return 1;
-}
+constexpr std::uint32_t kBands = 16;  // as in the shader
 
 std::string shaderPath() {
     return std::string(TYNDALL_SHADER_DIR) + "/wvds/wvds.comp.glsl";
@@ -113,14 +104,12 @@ void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const Rende
     for (const auto& b : buffers_)
         bindings.push_back(b.get());
     std::uint64_t& sliceSize = sliceSizes_.try_emplace(&k, 1024).first->second;
-    const std::uint32_t groups = (pixels_ + kGroupSize - 1) / kGroupSize;
-    TY_CHECK(groups < kMaxGroups, "a WVDS GPU render of at most 2.5 G pixels");
-    const std::uint32_t groupStride = groupStrideFor(groups);
+    const std::uint32_t bandGroups = ((pixels_ + kGroupSize - 1) / kGroupSize + kBands - 1) / kBands;
     try {
         for (std::uint32_t index = first; index < end; ++index) {
             // One dispatch covers each pixel at most once, so the read-modify-write of its accumulators never races.
             const gpu::SliceStats stats = gpu::runSliced(
-                *context_, std::uint64_t(groups) * kGroupSize,
+                *context_, std::uint64_t(kBands) * bandGroups * kGroupSize,
                 [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t count) {
                     Push push{std::uint32_t(begin),
                               std::uint32_t(begin + count),
@@ -129,8 +118,7 @@ void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const Rende
                               stride_,
                               ratioLights_,
                               pixels_,
-                              groups,
-                              groupStride};
+                              bandGroups};
                     k.record(cmd, bindings, &push, std::uint32_t((count + kGroupSize - 1) / kGroupSize));
                     gpu::computeToComputeBarrier(cmd);
                 },

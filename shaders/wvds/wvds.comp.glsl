@@ -58,9 +58,8 @@ layout(push_constant) uniform Push {
     uint index;   // the camera sample every pixel adds
     uint stride;  // vec4s per pixel and half
     uint ratioLights;
-    uint pixels;       // width * height
-    uint groups;       // pixel groups of 64: (pixels + 63) / 64
-    uint groupStride;  // coprime with groups
+    uint pixels;      // width * height
+    uint bandGroups;  // pixel groups of 64 per band: ((pixels + 63) / 64 + 15) / 16
 } push;
 
 // Lavapipe loads from a storage buffer with one scalar load only outside control flow (where it knows invocation 0
@@ -95,13 +94,15 @@ void main() {
     for (int i = 0; i < TY_WVDS_LIGHTS; ++i)
         sceneLights[i] = lights[i];
 #endif
-    // Work items run through the image's groups of 64 pixels with a stride coprime with their count (a bijection),
-    // so that any run of items, the slice a dispatch covers, samples the whole image and costs the same per item.
-    // Slices are sized from the last ones' cost per item; in image order they grew through a cheap sky into a slice
-    // of the dear rows with the sphere and the box, twice as long as intended. Within a group, pixels stay adjacent.
+    // Work items take the image's groups of 64 pixels from 16 horizontal bands in turn: item group g is group
+    // g / 16 of band g % 16. Any run of items, the slice a dispatch covers, then samples every band alike and costs
+    // the same per item. (Slices are sized from the last ones' cost per item; in image order they grew through a
+    // cheap sky into a slice of the dear rows with the sphere and the box, twice as long as intended.) Within a band
+    // the groups stay in order, so memory is read as 16 sequential streams.
     uint item = push.first + gl_GlobalInvocationID.x;
     if (item >= push.end) return;
-    uint pixel = ((item >> 6u) * push.groupStride % push.groups) * 64u + (item & 63u);
+    uint band = (item >> 6u) & 15u, groupInBand = item >> 10u;
+    uint pixel = (band * push.bandGroups + groupInBand) * 64u + (item & 63u);
     if (pixel >= push.pixels) return;
     int px = int(pixel % push.width), py = int(pixel / push.width);
     WvdsTerms terms = wvdsSample(sceneFrame, px, py, push.index);
