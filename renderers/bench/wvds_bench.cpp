@@ -2,9 +2,11 @@
 // sample per pixel:
 //   build/renderers/bench/tyndall_wvds_bench
 // - BM_WvdsGpu/estimator: GPU time of the render on the Vulkan device (lavapipe here), from its timestamps; the first
-//   render compiles the pipeline and is not timed. Targets on lavapipe: analytic <= 10 ms, mcwvds <= 100 ms.
+//   render compiles the pipeline and is not timed. Target on lavapipe: mcwvds <= 100 ms.
 // - BM_WvdsGpuMediumOnly/estimator: the same without the scene's meshes (no camera hits, no shadow rays), so that the
-//   frame is the medium's single scattering alone: for the analytic estimator, the unoccluded integral over the image.
+//   frame is the medium's single scattering alone: for the analytic estimator, the unoccluded integral over the image,
+//   the technique's own pass as the paper times it (Sec. 7). Target on lavapipe: analytic <= 10 ms. (docs/wvds.md,
+//   Measured, has the numbers and what the full frame adds.)
 // - BM_WvdsCpu/estimator: wall time of the CPU path (every core).
 #include "tyndall/project.h"
 #include "tyndall/render.h"
