@@ -93,16 +93,22 @@ void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int s
     width_ = std::uint32_t(width);
     stride_ = std::uint32_t(stride);
     ratioLights_ = std::uint32_t(ratioLights);
-    buffers_.push_back(upload(std::vector<glm::vec4>(std::size_t(pixels_) * 2 * stride_, glm::vec4(0.0f))));
+    // The accumulators stay from render to render at the same size (an edit re-renders the view at its size), zeroed
+    // in place: a fresh 8-32 MB buffer and a host array of zeros for it cost ~15-60 ms of page faults per render here.
+    const VkDeviceSize accumulatorBytes = VkDeviceSize(pixels_) * 2 * stride_ * sizeof(glm::vec4);
+    if (!accumulators_ || accumulators_->size() != accumulatorBytes)
+        accumulators_ = std::make_unique<gpu::Buffer>(ctx, accumulatorBytes);
+    accumulators_->fill(0u);
     longestSliceMs_ = gpuMs_ = 0.0;
 }
 
 void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const RenderCallbacks& callbacks) {
-    TY_CHECK(kernel_ != nullptr && !buffers_.empty(), "GpuRenderer::begin before addSamples");
+    TY_CHECK(kernel_ != nullptr && accumulators_, "GpuRenderer::begin before addSamples");
     gpu::ComputeKernel& k = *kernel_;
     std::vector<const gpu::Buffer*> bindings;
     for (const auto& b : buffers_)
         bindings.push_back(b.get());
+    bindings.push_back(accumulators_.get());
     std::uint64_t& sliceSize = sliceSizes_.try_emplace(&k, 1024).first->second;
     const std::uint32_t bandGroups = ((pixels_ + kGroupSize - 1) / kGroupSize + kBands - 1) / kBands;
     try {
@@ -134,8 +140,8 @@ void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const Rende
     }
 }
 
-std::vector<glm::vec4> GpuRenderer::accumulators() const {
-    return buffers_.back()->download<glm::vec4>(std::size_t(pixels_) * 2 * stride_);
+void GpuRenderer::readAccumulators(std::vector<glm::vec4>& out) const {
+    accumulators_->download(out, std::size_t(pixels_) * 2 * stride_);
 }
 
 }  // namespace tyndall::wvds

@@ -225,13 +225,14 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
 
     bool onGpu = settings.device == wvds::Device::Gpu;
     if (settings.device == wvds::Device::Auto) onGpu = gpu::hardwareDeviceAvailable();
-    std::vector<glm::vec4> acc;
+    std::vector<glm::vec4> cpuAccumulators;
     if (onGpu) {
         if (!gpu_) gpu_ = std::make_unique<wvds::GpuRenderer>();
         gpu_->begin(scene, layout.width, layout.height, layout.stride, layout.ratioLights);
     } else {
-        acc.assign(layout.size(), glm::vec4(0.0f));
+        cpuAccumulators.assign(layout.size(), glm::vec4(0.0f));
     }
+    std::vector<glm::vec4>& acc = onGpu ? readback_ : cpuAccumulators;
 
     // Passes of 1, 1, 2, 4, ... camera samples: an image at every power of two, until spp or the time limit.
     std::atomic<long> nonFiniteSamples{0};
@@ -246,7 +247,7 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
                                    nullptr, callbacks.cancel};
         if (onGpu) {
             gpu_->addSamples(std::uint32_t(done), std::uint32_t(done + passSize), pass);
-            acc = gpu_->accumulators();
+            gpu_->readAccumulators(acc);
         } else {
             addSamplesCpu(scene, layout, acc, std::uint32_t(done), std::uint32_t(done + passSize), request.threads,
                           pass, nonFiniteSamples);

@@ -8,6 +8,7 @@
 #include "tyndall/technique.h"
 
 #include <memory>
+#include <vector>
 
 namespace tyndall {
 
@@ -41,6 +42,9 @@ public:
 
 private:
     std::unique_ptr<wvds::GpuRenderer> gpu_;  // created on the first GPU render, kept for its pipeline
+    // The GPU accumulators read back after each pass, kept from render to render: fresh pages for 8-32 MB cost more
+    // than the copy into them.
+    std::vector<glm::vec4> readback_;
 };
 
 }  // namespace tyndall

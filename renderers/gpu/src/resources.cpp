@@ -88,6 +88,15 @@ void Buffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const
     else copyThroughStaging(nullptr, data, bytes, offset);
 }
 
+void Buffer::fill(std::uint32_t value) {
+    if (mapped_) {
+        std::uint32_t* words = static_cast<std::uint32_t*>(mapped_);
+        std::fill(words, words + size_ / 4, value);
+        return;
+    }
+    context_.submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer_, 0, VK_WHOLE_SIZE, value); });
+}
+
 void Buffer::copyThroughStaging(const void* in, void* out, VkDeviceSize bytes, VkDeviceSize offset) const {
     RawBuffer staging = createRaw(context_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                   kHostVisible, 0);

@@ -2,6 +2,7 @@
 
 #include "tyndall/gpu/resources.h"
 
+#include <algorithm>
 #include <cstring>
 #include <numeric>
 
@@ -39,6 +40,24 @@ TEST_F(GpuTest, BufferUploadAndReadbackRoundTrip) {
     buffer.upload(values);
     EXPECT_EQ(buffer.download<std::uint32_t>(values.size()), values);
     EXPECT_THROW(buffer.upload(values.data(), values.size() * 4, 4), GpuError) << "an overrun is an error, not a crash";
+}
+
+TEST_F(GpuTest, BufferFillsInPlaceAndReadsBackIntoAVectorItReuses) {
+    std::vector<std::uint32_t> values(1 << 16);
+    std::iota(values.begin(), values.end(), 3u);
+    Buffer buffer(context(), values.size() * 4);
+    buffer.upload(values);
+    buffer.fill(0x3f800000u);  // 1.0f
+    std::vector<float> out(values.size() + 10, -1.0f);
+    const float* storage = out.data();
+    buffer.download(out, values.size());
+    ASSERT_EQ(out.size(), values.size());
+    EXPECT_EQ(out.data(), storage) << "the vector's storage is reused";
+    EXPECT_TRUE(std::all_of(out.begin(), out.end(), [](float v) { return v == 1.0f; }));
+    buffer.fill(0u);
+    buffer.download(out, 100);
+    EXPECT_EQ(out.size(), 100u);
+    EXPECT_TRUE(std::all_of(out.begin(), out.end(), [](float v) { return v == 0.0f; }));
 }
 
 TEST_F(GpuTest, ComputeKernelWithDescriptorsAndPushConstants) {

@@ -595,5 +595,28 @@ TEST_F(WvdsGpu, GpuAgreesWithCpu) {
     }
 }
 
+// The GPU renderer keeps its accumulators (and its slice size) from one render to the next, and zeroes them in place:
+// a second render with another seed equals a first render with that seed. Left unzeroed, it would average both seeds'
+// samples.
+TEST_F(WvdsGpu, ARenderAgainStartsFromZero) {
+    const std::vector<std::string> overrides = {"views[mcwvds].parameters.device=gpu"};
+    const Project project = loadExample(kProject, 48, 36, overrides);
+    JobOptions options;
+    options.spp = 2;
+    options.seed = 1;
+    RenderJob reused = makeViewJob(project, kProject, "mcwvds", options);
+    runJob(reused);
+    reused.request.seed = 2;
+    const RenderResult again = runJob(reused);
+    const RenderResult fresh = renderView(project, kProject, "mcwvds", 2, 2);
+    EXPECT_EQ(again.image.metadata.at("device"), fresh.image.metadata.at("device"));
+    double largest = 0.0;
+    for (int y = 0; y < 36; ++y)
+        for (int x = 0; x < 48; ++x)
+            for (int c = 0; c < 6; ++c)
+                largest = std::max(largest, double(std::abs(again.image.at(x, y, c) - fresh.image.at(x, y, c))));
+    EXPECT_EQ(largest, 0.0);
+}
+
 }  // namespace
 }  // namespace tyndall::wvds::test
