@@ -31,6 +31,7 @@
 #include <QMessageBox>
 #include <QPushButton>
 #include <QVBoxLayout>
+#include <QPointer>
 #include <QSaveFile>
 #include <QStatusBar>
 #include <QTableWidget>
@@ -89,6 +90,9 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     // widget's paint would wait behind a 100 ms metrics job.
     background_ = new QThreadPool(this);
     background_->setMaxThreadCount(2);
+    autosaves_ = new QThreadPool(this);
+    autosaves_->setMaxThreadCount(1);
+    autosaves_->setExpiryTimeout(-1);
     viewport_ = new Viewport;
     viewport_->setVulkanInstance(vulkan);
     QWidget* container = QWidget::createWindowContainer(viewport_, this);
@@ -311,7 +315,7 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     autosave_.start();
     connect(&session_, &Session::modifiedChanged, this, [this](bool modified) {
         // Saved, or undone back to the file: nothing to recover. (Opening a project is neither.)
-        if (!modified && !opening_) QFile::remove(autosavePath(session_.path()));
+        if (!modified && !opening_) removeAutosave();
     });
     refreshRecentMenu();
     statusBar()->showMessage("Ready");  // created now, so that its messages never resize the viewport
@@ -322,6 +326,7 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
 MainWindow::~MainWindow() {
     renderer_->cancelAll();
     background_->waitForDone();  // metrics in flight post back to this window
+    autosaves_->waitForDone();   // and a failed autosave would say so
     QCoreApplication::removePostedEvents(this);
 }
 
@@ -423,7 +428,9 @@ bool MainWindow::openProject(const QString& path, bool dialog) {
         return false;
     }
     addRecent(path);
-    // An autosave newer than the file: the studio stopped with unsaved changes.
+    // An autosave newer than the file: the studio stopped with unsaved changes. (This window's own writes and
+    // removals of it come first.)
+    waitForAutosaves();
     const QFileInfo autosave(autosavePath(path)), file(path);
     if (autosave.exists() && autosave.lastModified() >= file.lastModified() && recovery_ != Recovery::Never) {
         bool recover = recovery_ == Recovery::Always;
@@ -460,9 +467,29 @@ QString MainWindow::autosavePath(const QString& projectPath) {
 
 bool MainWindow::autosaveNow() {
     if (!session_.modified() || session_.path().isEmpty()) return false;
-    QSaveFile file(autosavePath(session_.path()));
-    const std::string text = projectToJson(session_.project()).dump(2) + "\n";
-    return file.open(QIODevice::WriteOnly) && file.write(text.data(), qint64(text.size())) >= 0 && file.commit();
+    const QString path = autosavePath(session_.path());
+    auto text = std::make_shared<const std::string>(projectToJson(session_.project()).dump(2) + "\n");
+    QPointer<MainWindow> window(this);
+    autosaves_->start([path, text, window] {
+        QSaveFile file(path);
+        if (file.open(QIODevice::WriteOnly) && file.write(text->data(), qint64(text->size())) >= 0 && file.commit())
+            return;
+        const QString message = "Autosave failed: cannot write " + path + " (" + file.errorString() + ")";
+        QMetaObject::invokeMethod(
+            qApp,
+            [window, message] {
+                if (window) window->statusBar()->showMessage(message, 10000);
+            },
+            Qt::QueuedConnection);
+    });
+    return true;
+}
+
+void MainWindow::waitForAutosaves() { autosaves_->waitForDone(); }
+
+void MainWindow::removeAutosave() {
+    if (session_.path().isEmpty()) return;
+    autosaves_->start([path = autosavePath(session_.path())] { QFile::remove(path); });
 }
 
 QStringList MainWindow::recentProjects() const {
@@ -958,7 +985,7 @@ void MainWindow::closeEvent(QCloseEvent* event) {
         return;
     }
     renderer_->cancelAll();
-    QFile::remove(autosavePath(session_.path()));  // saved or discarded on purpose: nothing to recover
+    removeAutosave();  // saved or discarded on purpose: nothing to recover
     event->accept();
 }
 

@@ -14,6 +14,7 @@
 #include <QStandardPaths>
 #include <QMessageBox>
 #include <QTableWidget>
+#include <QStatusBar>
 #include <QTest>
 #include <QThreadPool>
 #include <QTimer>
@@ -479,6 +480,7 @@ private slots:
         QCOMPARE(window_->recentProjects().value(0), QFileInfo(path).absoluteFilePath());
         window_->session().setParameter(1, "raySamples", std::int64_t(3));
         QVERIFY(window_->autosaveNow());
+        window_->waitForAutosaves();  // written by the autosave thread
         QVERIFY(QFile::exists(MainWindow::autosavePath(path)));
 
         // The first studio "crashes" (it is left as it is); a second one opens the same project.
@@ -490,8 +492,33 @@ private slots:
         second.session().undoStack()->undo();
         QVERIFY(!second.session().project().views[1].parameters.contains("raySamples"));
         QVERIFY(!second.session().modified());
+        second.waitForAutosaves();
         QVERIFY(!QFile::exists(MainWindow::autosavePath(path)));  // back at the file: nothing left to recover
         QTRY_VERIFY_WITH_TIMEOUT(second.settled(), 120000);
+    }
+
+    // An autosave that cannot be written says so in the status bar (its path is taken by a folder, which fails even
+    // for root), and the session keeps its changes.
+    void reportsAFailedAutosave() {
+        const QString dir = QString(TYNDALL_TEST_TMP) + "/autosave-fails";
+        QDir(dir).removeRecursively();
+        QDir().mkpath(dir);
+        const QString path = dir + "/room.json";
+        QVERIFY(QFile::copy(kDefaultProject, path));
+        window_->setRecovery(MainWindow::Recovery::Never);
+        QVERIFY(window_->openProject(path, false));
+        const QString blocked = MainWindow::autosavePath(path);
+        QFile::remove(blocked);
+        QVERIFY(QDir().mkpath(blocked + "/taken"));
+        window_->session().setParameter(1, "raySamples", std::int64_t(5));
+        QVERIFY(window_->autosaveNow());
+        window_->waitForAutosaves();
+        QTRY_VERIFY_WITH_TIMEOUT(window_->statusBar()->currentMessage().startsWith("Autosave failed"), 5000);
+        QVERIFY2(window_->statusBar()->currentMessage().contains(blocked), qPrintable(window_->statusBar()->currentMessage()));
+        QVERIFY(window_->session().modified());
+        QDir(blocked).removeRecursively();
+        window_->session().undoStack()->undo();
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
     }
 
     void cleanupTestCase() { window_.reset(); }
