@@ -693,9 +693,7 @@ void MainWindow::onOutput(const RenderOutput& out) {
     }
     if (out.reference && out.final) referencePending_[std::size_t(out.view)] = false;
     if (!out.reference && out.image) {
-        std::vector<Progress>& progress = progress_[std::size_t(out.view)];
-        if (!progress.empty() && progress.back().spp >= out.spp) progress.clear();  // a new render started over
-        progress.push_back({out.spp, out.seconds, out.image});
+        addConvergencePoint(progress_[std::size_t(out.view)], Progress{out.spp, out.seconds, out.image});
     }
     if (!out.reference && out.view == referenceView_) refreshAlternates();
     updateMetrics(out.view);
@@ -703,6 +701,10 @@ void MainWindow::onOutput(const RenderOutput& out) {
     updateMetricsDock();
     recompose();
     if (!out.reference) requestCompose(true);  // a new image is shown at once, even right after an edit
+}
+
+int MainWindow::convergenceBucket(int spp) {
+    return spp > 0 ? int(std::floor(4.0 * std::log2(double(spp)))) : -1;
 }
 
 void MainWindow::updateMetrics(int view) {

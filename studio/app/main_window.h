@@ -113,6 +113,8 @@ public:
     QString inspectorText() const;
     PlotPanel* plots() { return plots_; }
     ConvergencePlot* convergencePlot() { return convergence_; }
+    // The convergence plot keeps one point per bucket of spp, four buckets per octave (the newest image of each).
+    static int convergenceBucket(int spp);
     PdfPlot* pdfPlot() { return pdf_; }
 
 protected:
@@ -202,5 +204,18 @@ private:
     std::map<quint64, QString> cachePathOf_;  // reference renders in flight: where their result is cached
     void refreshRecentMenu();
 };
+
+// Adds a view's progressive image (anything with an `spp`) to its convergence points: a lower spp than the last
+// starts a new render's list; an image in the same bucket of spp as the last replaces it. Each point keeps its image,
+// to compute its relMSE again as the reference refines, and a progressive technique sends an image per sample (the
+// path tracer as a view): this keeps 25 images up to 64 spp and 41 up to 1024, instead of one per spp (~1 GB for the
+// default project).
+template <typename Point>
+void addConvergencePoint(std::vector<Point>& points, Point point) {
+    if (!points.empty() && points.back().spp >= point.spp) points.clear();
+    if (!points.empty() && MainWindow::convergenceBucket(points.back().spp) == MainWindow::convergenceBucket(point.spp))
+        points.pop_back();
+    points.push_back(std::move(point));
+}
 
 }  // namespace tyndall::studio

@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <set>
 
 using namespace tyndall;
 using namespace tyndall::studio;
@@ -349,8 +350,15 @@ private slots:
         QCOMPARE(window_->pdfPlot()->plot()->graphCount(), 6);
         QVERIFY(window_->pdfPlot()->plot()->graph(0)->dataCount() == 256);
         int withPoints = 0;
-        for (int g = 0; g < window_->convergencePlot()->plot()->graphCount(); ++g)
-            withPoints += window_->convergencePlot()->plot()->graph(g)->dataCount() > 0;
+        for (int g = 0; g < window_->convergencePlot()->plot()->graphCount(); ++g) {
+            QCPGraph* graph = window_->convergencePlot()->plot()->graph(g);
+            withPoints += graph->dataCount() > 0;
+            // One point (and one kept image) per bucket of spp, four per octave, however many images the view made.
+            std::set<int> buckets;
+            for (auto it = graph->data()->constBegin(); it != graph->data()->constEnd(); ++it)
+                buckets.insert(MainWindow::convergenceBucket(int(std::lround(it->key))));
+            QCOMPARE(int(buckets.size()), graph->dataCount());
+        }
         QVERIFY(withPoints >= 3);
 
         window_->setRegion(QRect(20, 20, 40, 30));
@@ -370,6 +378,28 @@ private slots:
             ++checked;
         }
         QVERIFY(checked >= 3);
+    }
+
+    // A progressive view sends an image per pass; the plot keeps the newest of each bucket of spp (four per octave),
+    // so that a view's kept images grow with log(spp), and a new render starts the list again.
+    void keepsFourConvergencePointsPerOctave() {
+        struct Point {
+            int spp = 0;
+        };
+        std::vector<Point> points;
+        for (int spp = 1; spp <= 1024; ++spp)
+            addConvergencePoint(points, Point{spp});
+        QVERIFY2(points.size() <= 41, qPrintable(QString::number(points.size())));
+        QCOMPARE(points.back().spp, 1024);
+        std::set<int> buckets;
+        for (std::size_t k = 0; k < points.size(); ++k) {
+            buckets.insert(MainWindow::convergenceBucket(points[k].spp));
+            if (k > 0) QVERIFY(points[k].spp > points[k - 1].spp);
+        }
+        QCOMPARE(buckets.size(), points.size());
+        QCOMPARE(points[0].spp, 1);
+        addConvergencePoint(points, Point{1});  // a new render
+        QCOMPARE(int(points.size()), 1);
     }
 
     // A light's intensity from the scene panel re-renders the views whose part holds that light (and their references)
