@@ -94,7 +94,7 @@ void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int s
     stride_ = std::uint32_t(stride);
     ratioLights_ = std::uint32_t(ratioLights);
     // The accumulators stay from render to render at the same size (an edit re-renders the view at its size), zeroed
-    // in place: a fresh 8-32 MB buffer and a host array of zeros for it cost ~15-60 ms of page faults per render here.
+    // in place: a fresh 8-32 MB buffer and a host array of zeros for it cost page faults, ~8 ms per 8 MB here.
     const VkDeviceSize accumulatorBytes = VkDeviceSize(pixels_) * 2 * stride_ * sizeof(glm::vec4);
     if (!accumulators_ || accumulators_->size() != accumulatorBytes)
         accumulators_ = std::make_unique<gpu::Buffer>(ctx, accumulatorBytes);
@@ -140,8 +140,9 @@ void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const Rende
     }
 }
 
-void GpuRenderer::readAccumulators(std::vector<glm::vec4>& out) const {
-    accumulators_->download(out, std::size_t(pixels_) * 2 * stride_);
+const std::vector<glm::vec4>& GpuRenderer::readAccumulators() {
+    accumulators_->download(readback_, std::size_t(pixels_) * 2 * stride_);
+    return readback_;
 }
 
 }  // namespace tyndall::wvds

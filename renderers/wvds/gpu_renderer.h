@@ -24,8 +24,8 @@ public:
     void begin(const PreparedScene& scene, int width, int height, int stride, int ratioLights);
     // Adds camera samples [first, end) to every pixel. Throws Cancelled between slices.
     void addSamples(std::uint32_t first, std::uint32_t end, const RenderCallbacks& callbacks);
-    // Reads the accumulators into `out`, reusing its storage.
-    void readAccumulators(std::vector<glm::vec4>& out) const;
+    // Reads the accumulators back, into storage kept from pass to pass and render to render.
+    const std::vector<glm::vec4>& readAccumulators();
 
     gpu::Context& context() { return *context_; }
     double longestSliceMs() const { return longestSliceMs_; }
@@ -41,12 +41,13 @@ private:
     std::shared_ptr<gpu::Context> context_;
     std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels_;
     gpu::ComputeKernel* kernel_ = nullptr;  // the current render's
-    // Per variant, the slice size (in pixels) its last dispatch measured: each sample of a render, and the next
+    // Per variant, the slice size (in work items, one pixel each) its last dispatch measured: each sample of a render, and the next
     // render of the variant, start there instead of ramping up from a small first slice again (each slice is a
     // submission and a wait, ~0.2-0.5 ms on lavapipe; a 512 x 512 sample took 8 slices to reach its size).
     std::map<const gpu::ComputeKernel*, std::uint64_t> sliceSizes_;
     std::vector<std::unique_ptr<gpu::Buffer>> buffers_;  // bindings 0-6
     std::unique_ptr<gpu::Buffer> accumulators_;          // binding 7
+    std::vector<glm::vec4> readback_;                    // its last readback
     std::uint32_t pixels_ = 0, width_ = 0, stride_ = 1, ratioLights_ = 0;
     double longestSliceMs_ = 0.0, gpuMs_ = 0.0, compileSeconds_ = 0.0;
 };

@@ -225,14 +225,13 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
 
     bool onGpu = settings.device == wvds::Device::Gpu;
     if (settings.device == wvds::Device::Auto) onGpu = gpu::hardwareDeviceAvailable();
-    std::vector<glm::vec4> cpuAccumulators;
+    std::vector<glm::vec4> acc;  // the CPU path's accumulators
     if (onGpu) {
         if (!gpu_) gpu_ = std::make_unique<wvds::GpuRenderer>();
         gpu_->begin(scene, layout.width, layout.height, layout.stride, layout.ratioLights);
     } else {
-        cpuAccumulators.assign(layout.size(), glm::vec4(0.0f));
+        acc.assign(layout.size(), glm::vec4(0.0f));
     }
-    std::vector<glm::vec4>& acc = onGpu ? readback_ : cpuAccumulators;
 
     // Passes of 1, 1, 2, 4, ... camera samples: an image at every power of two, until spp or the time limit.
     std::atomic<long> nonFiniteSamples{0};
@@ -247,13 +246,12 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
                                    nullptr, callbacks.cancel};
         if (onGpu) {
             gpu_->addSamples(std::uint32_t(done), std::uint32_t(done + passSize), pass);
-            gpu_->readAccumulators(acc);
         } else {
             addSamplesCpu(scene, layout, acc, std::uint32_t(done), std::uint32_t(done + passSize), request.threads,
                           pass, nonFiniteSamples);
         }
         done += passSize;
-        result.image = resolve(acc, layout, request.threads, nonFinitePixels);
+        result.image = resolve(onGpu ? gpu_->readAccumulators() : acc, layout, request.threads, nonFinitePixels);
         if (callbacks.progress) callbacks.progress(double(done) / spp);
         if (callbacks.intermediate && done < spp) callbacks.intermediate(result.image, done);
         const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();

@@ -8,7 +8,6 @@
 #include "tyndall/technique.h"
 
 #include <memory>
-#include <vector>
 
 namespace tyndall {
 
@@ -41,10 +40,7 @@ public:
     ProbeResult probe(const RenderRequest& request, const std::string& probeName, int x, int y) override;
 
 private:
-    std::unique_ptr<wvds::GpuRenderer> gpu_;  // created on the first GPU render, kept for its pipeline
-    // The GPU accumulators read back after each pass, kept from render to render: fresh pages for 8-32 MB cost more
-    // than the copy into them.
-    std::vector<glm::vec4> readback_;
+    std::unique_ptr<wvds::GpuRenderer> gpu_;  // created on the first GPU render, kept for its pipeline and buffers
 };
 
 }  // namespace tyndall

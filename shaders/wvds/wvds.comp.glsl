@@ -65,7 +65,8 @@ layout(push_constant) uniform Push {
 // Lavapipe loads from a storage buffer with one scalar load only outside control flow (where it knows invocation 0
 // is active); after the first branch, even a load that every invocation makes at the same address becomes a loop
 // over the SIMD lanes, per component. The scene's uniform data (the frame, its planes, its lights) is therefore
-// copied to private variables at the top of main, once, and read from there: 20-30 % of the analytic frame.
+// copied to private variables at the top of main, once, and read from there: a third of the analytic frame without
+// meshes (9.4 -> 6.4 ms at 512 x 512).
 WvdsFrame sceneFrame;
 #ifdef TY_WVDS_PLANE_TOTAL
 vec4 scenePlanes[TY_WVDS_PLANE_TOTAL];

@@ -208,8 +208,8 @@ private:
 // Adds a view's progressive image (anything with an `spp`) to its convergence points: a lower spp than the last
 // starts a new render's list; an image in the same bucket of spp as the last replaces it. Each point keeps its image,
 // to compute its relMSE again as the reference refines, and a progressive technique sends an image per sample (the
-// path tracer as a view): this keeps 25 images up to 64 spp and 41 up to 1024, instead of one per spp (~1 GB for the
-// default project).
+// path tracer as a view): this keeps 20 images up to 64 spp and 36 up to 1024, instead of one per spp (the latency
+// bench's process grew by ~16 MB/s while its references refined).
 template <typename Point>
 void addConvergencePoint(std::vector<Point>& points, Point point) {
     if (!points.empty() && points.back().spp >= point.spp) points.clear();

@@ -47,16 +47,14 @@ TEST_F(GpuTest, AnotherRunStartsAtTheMeasuredSliceSize) {
         sizes.push_back(count);
     };
     const SliceStats first = runSliced(context(), n / 64, record);
-    ASSERT_GE(first.nextSlice, 1u);
     ASSERT_EQ(sizes.front(), 1u);
     sizes.clear();
-    const SliceStats second = runSliced(context(), n / 64, record, nullptr, 10.0, first.nextSlice);
+    runSliced(context(), n / 64, record, nullptr, 10.0, first.nextSlice);
     kernel.resetDescriptors();
     for (uint32_t i = 0; i < n / 64; ++i) ASSERT_EQ(covered[i], 2) << "item " << i;
     // The second run starts where the first ended instead of growing from one item again. (How many slices each
     // takes depends on the machine's load: the measured sizes are wall times on lavapipe.)
     EXPECT_EQ(sizes.front(), std::min<uint64_t>(first.nextSlice, n / 64));
-    EXPECT_GE(second.nextSlice, 1u);
 }
 
 TEST_F(GpuTest, CancelStopsBetweenSlices) {
