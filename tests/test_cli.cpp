@@ -308,4 +308,91 @@ TEST(Cli, CompareWritesMetricsAndADifferenceImage) {
     EXPECT_EQ(metrics["images"][1]["psnr"], "inf");
 }
 
+
+// --time alone means "until this time": the technique's default spp (WVDS: 16) does not stop the render first, and
+// --spp beside it is a cap. Neither assertion depends on the machine's speed: 16 samples of 48 pixels take
+// microseconds, far below the 1.5 s bound, and the cap holds however long the bound.
+TEST(Cli, ATimeBoundRendersUntilItAndSppCapsIt) {
+    fs::path dir = scratch("time");
+    const std::string project = source("projects/examples/wvds-box.json");
+    const std::string common = "render '" + project + "' --view analytic --size 8x6 --set " +
+                               "'views[analytic].parameters.device=cpu' ";
+    const std::string timed = (dir / "timed.exr").string(), capped = (dir / "capped.exr").string();
+    CliRun r = tyndall(common + "--time 1.5 -o '" + timed + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_GT(std::stoi(tyndall::readImage(timed).metadata.at("spp")), 16) << r.output;
+    CliRun c = tyndall(common + "--time 600 --spp 3 -o '" + capped + "'");
+    ASSERT_EQ(c.exitCode, 0) << c.output;
+    EXPECT_EQ(tyndall::readImage(capped).metadata.at("spp"), "3");
+}
+
+// A view without its own "lights"/"media" renders what its technique supports; what that leaves out is said on
+// stderr by validate and render, and in the image's metadata, instead of silently rendering a different scene.
+TEST(Cli, SaysWhatAViewWithoutAPartLeavesOut) {
+    fs::path dir = scratch("leftout");
+    const std::string project = source("projects/default.json");
+    // A Pegoraro view of the default room takes only the lamp: the fog is bounded, the sun and the panel not punctual.
+    const std::string pegoraro = R"( --set 'views[+]={"name": "closed form", "technique": "pegoraro"}')";
+    CliRun v = tyndall("validate '" + project + "'" + pegoraro);
+    EXPECT_EQ(v.exitCode, 0) << v.output;
+    EXPECT_NE(v.output.find("view 'closed form' leaves out"), std::string::npos) << v.output;
+    for (const char* left : {"medium 'fog'", "directional light 'sun'", "area light 'panel'"})
+        EXPECT_NE(v.output.find(left), std::string::npos) << left << "\n" << v.output;
+    EXPECT_EQ(v.output.find("point light 'lamp'"), std::string::npos) << v.output;
+    EXPECT_NE(v.output.find("ok (5 views, 1 leaving out part of the scene)"), std::string::npos) << v.output;
+    CliRun clean = tyndall("validate '" + project + "'");
+    EXPECT_EQ(clean.output.find("leaves out"), std::string::npos) << clean.output;
+    EXPECT_NE(clean.output.find("ok (4 views)"), std::string::npos) << clean.output;
+    CliRun one = tyndall("validate '" + source("projects/examples/reference-smoke.json") + "'");
+    EXPECT_NE(one.output.find("ok (1 view)"), std::string::npos) << one.output;
+
+    const std::string exr = (dir / "closed-form.exr").string();
+    CliRun r = tyndall("render '" + project + "' --view 'closed form' --size 8x6" + pegoraro + " -o '" + exr + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("warning: view 'closed form' leaves out"), std::string::npos) << r.output;
+    const tyndall::Image image = tyndall::readImage(exr);
+    ASSERT_TRUE(image.metadata.count("leftOut"));
+    EXPECT_NE(image.metadata.at("leftOut").find("medium 'fog'"), std::string::npos);
+    // The reference of that view leaves out the same, so that the comparison is at least like for like.
+    const std::string ref = (dir / "closed-form-ref.exr").string();
+    CliRun rr = tyndall("render '" + project + "' --reference --view 'closed form' --size 8x6 --spp 1" + pegoraro +
+                        " -o '" + ref + "'");
+    ASSERT_EQ(rr.exitCode, 0) << rr.output;
+    EXPECT_EQ(tyndall::readImage(ref).metadata.at("leftOut"), image.metadata.at("leftOut"));
+}
+
+// --set 'array[+]=element' appends an element (a view, a light), which later overrides can then select by name.
+TEST(Cli, SetAppendsAnArrayElement) {
+    fs::path dir = scratch("append");
+    const std::string project = source("projects/examples/reference-smoke.json");
+    const std::string lamp =
+        R"('lights[+]={"type": "point", "name": "extra", "position": [0, 1, 0], "intensity": [1, 1, 1]}')";
+    const std::string view = R"('views[+]={"name": "extra only", "technique": "reference", "lights": ["extra"], "media": []}')";
+    CliRun v = tyndall("validate '" + project + "' --set " + lamp + " --set " + view +
+                       " --set 'lights[extra].intensity=[0,0,0]'");
+    EXPECT_EQ(v.exitCode, 0) << v.output;
+    EXPECT_NE(v.output.find("ok (2 views)"), std::string::npos) << v.output;
+
+    const std::string exr = (dir / "extra.exr").string();
+    CliRun r = tyndall("render '" + project + "' --view 'extra only' --size 8x6 --spp 1 --set " + lamp + " --set " +
+                       view + " --set 'lights[extra].intensity=[0,0,0]' -o '" + exr + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const tyndall::Image image = tyndall::readImage(exr);
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) EXPECT_EQ(image.at(x, y, 0), 0.0f) << "the extra light is off";
+
+    const struct {
+        std::string set, expected;
+    } bad[] = {
+        {"'lights[+].intensity=1'", "[+] appends the value as a whole new element"},
+        {"'camera[+]=1'", "is not an array"},
+        {"'lights[99999999999999999999999].intensity=1'", "out of range"},
+    };
+    for (const auto& b : bad) {
+        CliRun e = tyndall("validate '" + project + "' --set " + b.set);
+        EXPECT_EQ(e.exitCode, 2) << b.set << "\n" << e.output;
+        EXPECT_NE(e.output.find(b.expected), std::string::npos) << b.set << "\n" << e.output;
+    }
+}
+
 }  // namespace

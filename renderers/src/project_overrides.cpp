@@ -1,5 +1,6 @@
 // --set overrides: "path=value" applied to a project's JSON before it is validated. A path is keys separated by dots,
-// with [i] selecting an array element by index and [name] by its "name" (docs/project-format.md).
+// with [i] selecting an array element by index, [name] by its "name", and a final [+] appending the value as a new
+// element (docs/project-format.md).
 #include "project_internal.h"
 
 #include "tyndall/technique.h"
@@ -13,7 +14,7 @@ namespace {
 using nlohmann::json;
 
 struct PathStep {
-    enum class Type { Key, Index, Name };
+    enum class Type { Key, Index, Name, Append };
     Type type = Type::Key;
     std::string key;  // Key: the key; Name: the element's name
     std::size_t index = 0;
@@ -41,9 +42,16 @@ std::vector<PathStep> parsePath(const std::string& path) {
             const std::size_t close = path.find(']', i);
             if (close == std::string::npos) failOverride(path, "'[' without a matching ']'");
             const std::string inside = path.substr(i + 1, close - i - 1);
-            if (inside.empty()) failOverride(path, "empty [] in the path; use [index] or [name]");
-            if (allDigits(inside)) {
-                steps.push_back({PathStep::Type::Index, "", std::stoul(inside)});
+            if (inside.empty()) failOverride(path, "empty [] in the path; use [index], [name] or [+]");
+            if (inside == "+") {
+                if (close + 1 != path.size())
+                    failOverride(path, "[+] appends the value as a whole new element, so it must end the path");
+                steps.push_back({PathStep::Type::Append});
+            } else if (allDigits(inside)) {
+                // Any index past this many digits is out of range of every array; it is reported as such below.
+                const std::string digits = inside.substr(std::min(inside.find_first_not_of('0'), inside.size() - 1));
+                const std::size_t index = digits.size() > 9 ? std::size_t(-1) : std::stoul(digits);
+                steps.push_back({PathStep::Type::Index, "", index});
             } else {
                 steps.push_back({PathStep::Type::Name, inside});
             }
@@ -109,8 +117,14 @@ public:
     void apply(const std::vector<PathStep>& steps, const json& value) {
         for (std::size_t i = 0; i < steps.size(); ++i) {
             const bool last = i + 1 == steps.size();
+            if (steps[i].type == PathStep::Type::Append) {
+                if (!node_->is_array()) failOverride(path_, describeLocation(where_) + " is not an array");
+                node_->push_back(value);
+                return;
+            }
             if (steps[i].type == PathStep::Type::Key) {
-                if (!stepIntoKey(steps[i].key, last, value)) return;
+                const bool appends = !last && steps[i + 1].type == PathStep::Type::Append;
+                if (!stepIntoKey(steps[i].key, last, appends, value)) return;
             } else {
                 stepIntoElement(steps[i]);
             }
@@ -136,8 +150,9 @@ private:
                      "unknown key '" + key + "' in " + describeLocation(where_) + suggestion(key, keyNames(kind)));
     }
 
-    // Returns false when the key was missing and has been created with the value.
-    bool stepIntoKey(const std::string& key, bool last, const json& value) {
+    // Returns false when the key was missing and has been created with the value. `appends`: the next step is [+],
+    // so a missing array is created empty.
+    bool stepIntoKey(const std::string& key, bool last, bool appends, const json& value) {
         if (!node_->is_object()) failOverride(path_, describeLocation(where_) + " is not an object");
         const KeySpec spec = findKey(key);
         if (!node_->contains(key)) {
@@ -145,10 +160,13 @@ private:
                 (*node_)[key] = value;
                 return false;
             }
-            if (spec.child == ObjectKind::None || spec.array) {
+            if (appends && spec.array) {
+                (*node_)[key] = json::array();
+            } else if (spec.child == ObjectKind::None || spec.array) {
                 failOverride(path_, "'" + key + "' is not in " + describeLocation(where_) + ", so it has no elements");
+            } else {
+                (*node_)[key] = json::object();
             }
-            (*node_)[key] = json::object();
         }
         if (kind_ == ObjectKind::View && key == "parameters") view_ = node_;
         node_ = &(*node_)[key];
@@ -161,8 +179,9 @@ private:
         if (!node_->is_array()) failOverride(path_, describeLocation(where_) + " is not an array");
         const std::size_t index = step.type == PathStep::Type::Index ? step.index : indexOfName(step.key);
         if (index >= node_->size()) {
-            failOverride(path_, "index " + std::to_string(index) + " is out of range: " + describeLocation(where_) +
-                                    " has " + std::to_string(node_->size()) + " elements");
+            const std::string shown = index == std::size_t(-1) ? "past 999999999" : std::to_string(index);
+            failOverride(path_, "index " + shown + " is out of range: " + describeLocation(where_) + " has " +
+                                    std::to_string(node_->size()) + " elements");
         }
         node_ = &(*node_)[index];
         where_ += "[" + std::to_string(index) + "]";

@@ -51,7 +51,11 @@ std::string projectDirOf(const std::string& projectPath) {
 
 void applyOptions(RenderRequest& request, const JobOptions& options) {
     if (options.spp) request.spp = *options.spp;
-    if (options.timeLimit) request.timeLimit = *options.timeLimit;
+    if (options.timeLimit) {
+        request.timeLimit = *options.timeLimit;
+        // A time bound means "until this time": the project's or technique's spp no longer stops it first.
+        if (!options.spp) request.spp = RenderRequest::kUnboundedSpp;
+    }
     if (options.seed) request.seed = *options.seed;
     request.threads = options.threads;
 }
@@ -72,6 +76,16 @@ void checkImageSize(const Camera& camera) {
                              " pixels is too large to render; at most 67 million pixels (e.g. 8192 x 8192)");
 }
 
+// What resolving the view's part left out of the scene (nothing when the view names its lights and media).
+void noteLeftOut(RenderJob& job, const Project& project, const View& view, const Technique& viewTechnique) {
+    if (view.part) return;
+    job.leftOut = viewTechnique.leftOut(project.scene);
+    if (job.leftOut.empty()) return;
+    std::string joined;
+    for (const std::string& line : job.leftOut) joined += (joined.empty() ? "" : "; ") + line;
+    job.metadata["leftOut"] = joined;
+}
+
 }  // namespace
 
 RenderJob makeViewJob(const Project& project, const std::string& projectPath, const std::string& viewName,
@@ -90,6 +104,7 @@ RenderJob makeViewJob(const Project& project, const std::string& projectPath, co
     job.exposure = view.exposure;
     job.metadata["view"] = view.name;
     job.metadata["projectHash"] = projectHash(project);
+    noteLeftOut(job, project, view, *job.technique);
     return job;
 }
 
@@ -106,6 +121,7 @@ RenderJob makeReferenceJob(const Project& project, const std::string& projectPat
         job.request.scene = resolvePart(project, view).apply(project.scene);
         job.exposure = view.exposure;
         job.metadata["view"] = view.name;
+        noteLeftOut(job, project, view, *createTechnique(view.technique));
     }
     checkImageSize(job.request.scene.camera);
     job.request.params = job.technique->defaultParams();

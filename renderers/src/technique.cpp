@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+
 namespace tyndall {
 
 namespace {
@@ -25,12 +27,7 @@ void collectSupportedNames(const Technique& technique, const std::vector<Element
 }  // namespace
 
 std::vector<std::string> Technique::unsupported(const Scene& scene) const {
-    std::vector<std::string> out;
-    collectUnsupported(*this, scene.media, "medium", out);
-    collectUnsupported(*this, scene.particleMedia, "particle medium", out);
-    collectUnsupported(*this, scene.pointLights, "point light", out);
-    collectUnsupported(*this, scene.directionalLights, "directional light", out);
-    collectUnsupported(*this, scene.areaLights, "area light", out);
+    std::vector<std::string> out = leftOut(scene);
     collectUnsupported(*this, scene.materials, "material", out);
     return out;
 }
@@ -62,6 +59,22 @@ ScenePart Technique::defaultPart(const Scene& scene) const {
     collectSupportedNames(*this, scene.media, part.media);
     collectSupportedNames(*this, scene.particleMedia, part.media);
     return part;
+}
+
+double progressFraction(double doneSpp, int targetSpp, double elapsedSeconds, double timeLimit) {
+    double fraction = targetSpp > 0 ? doneSpp / targetSpp : 0.0;
+    if (timeLimit > 0.0) fraction = std::max(fraction, elapsedSeconds / timeLimit);
+    return std::clamp(fraction, 0.0, 1.0);
+}
+
+std::vector<std::string> Technique::leftOut(const Scene& scene) const {
+    std::vector<std::string> out;
+    collectUnsupported(*this, scene.media, "medium", out);
+    collectUnsupported(*this, scene.particleMedia, "particle medium", out);
+    collectUnsupported(*this, scene.pointLights, "point light", out);
+    collectUnsupported(*this, scene.directionalLights, "directional light", out);
+    collectUnsupported(*this, scene.areaLights, "area light", out);
+    return out;
 }
 
 ProbeResult Technique::probe(const RenderRequest&, const std::string& probeName, int, int) {

@@ -991,6 +991,31 @@ TEST(ProjectOverrides, RejectMissingElements) {
     EXPECT_TRUE(failsAt(baseDocument(), "--set camera[0]", "'camera' is not an array", {"camera[0]=1"}));
 }
 
+TEST(ProjectOverrides, AppendElementsWithPlus) {
+    json document = baseDocument();
+    document.erase("views");
+    const Project p = parse(document, {R"(lights[+]={"type": "point", "name": "fill", "position": [0, 2, 0]})",
+                                       "lights[fill].intensity=2",
+                                       R"(views[+]={"name": "fill only", "technique": "reference", "lights": ["fill"], "media": []})"});
+    ASSERT_EQ(p.scene.pointLights.size(), 2u);
+    EXPECT_EQ(p.scene.pointLights[1].name, "fill");
+    EXPECT_EQ(p.scene.pointLights[1].intensity, Rgb(2.0));
+    ASSERT_EQ(p.views.size(), 1u);
+    EXPECT_EQ(p.views[0].name, "fill only");
+    // The appended element is validated like one in the file.
+    EXPECT_TRUE(failsAt(baseDocument(), "lights[3].position", "", {R"(lights[+]={"type": "point", "name": "x", "position": 1})"}));
+    EXPECT_TRUE(failsAt(baseDocument(), "--set lights[+].name", "must end the path", {"lights[+].name=x"}));
+    EXPECT_TRUE(failsAt(baseDocument(), "--set camera[+]", "'camera' is not an array", {"camera[+]=1"}));
+}
+
+TEST(ProjectOverrides, RejectIndicesTooLargeForAnyArray) {
+    EXPECT_TRUE(failsAt(baseDocument(), "--set lights[99999999999999999999999].name", "out of range",
+                        {"lights[99999999999999999999999].name=x"}));
+    // Leading zeros do not count toward the digits.
+    EXPECT_EQ(parse(baseDocument(), {"lights[0000000000000000000001].irradiance=4"}).scene.directionalLights[0].irradiance,
+              Rgb(4.0));
+}
+
 TEST(ProjectOverrides, RejectMalformedOverrides) {
     EXPECT_TRUE(failsAt(baseDocument(), "--set camera.fovY", "expected path=value", {"camera.fovY"}));
     EXPECT_TRUE(failsAt(baseDocument(), "--set lights[0.name", "without a matching ']'", {"lights[0.name=x"}));

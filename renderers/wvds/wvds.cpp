@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include <atomic>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -238,10 +239,17 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
     RenderResult result;
     long nonFinitePixels = 0;
     int done = 0;
+    double secondsPerSample = 0.0;  // of the last pass; bounds a pass by the time that is left
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
     while (done < spp) {
-        const int passSize = std::min(spp - done, std::max(done, 1));
+        int passSize = std::min(spp - done, std::max(done, 1));
+        if (request.timeLimit > 0.0 && secondsPerSample > 0.0)
+            passSize = std::clamp(int((request.timeLimit - elapsed()) / secondsPerSample), 1, passSize);
+        const auto passStart = Clock::now();
         const RenderCallbacks pass{[&](double f) {
-                                       if (callbacks.progress) callbacks.progress((done + f * passSize) / spp);
+                                       if (callbacks.progress)
+                                           callbacks.progress(
+                                               progressFraction(done + f * passSize, spp, elapsed(), request.timeLimit));
                                    },
                                    nullptr, callbacks.cancel};
         if (onGpu) {
@@ -251,15 +259,15 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
                           pass, nonFiniteSamples);
         }
         done += passSize;
+        secondsPerSample = std::chrono::duration<double>(Clock::now() - passStart).count() / passSize;
         result.image = resolve(onGpu ? gpu_->readAccumulators() : acc, layout, request.threads, nonFinitePixels);
-        if (callbacks.progress) callbacks.progress(double(done) / spp);
+        if (callbacks.progress) callbacks.progress(progressFraction(done, spp, elapsed(), request.timeLimit));
+        if (request.timeLimit > 0.0 && elapsed() >= request.timeLimit) break;
         if (callbacks.intermediate && done < spp) callbacks.intermediate(result.image, done);
-        const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-        if (request.timeLimit > 0.0 && elapsed >= request.timeLimit) break;
     }
 
     result.spp = done;
-    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    result.seconds = elapsed();
     stampMetadata(result, request);
     auto& meta = result.image.metadata;
     meta["device"] = onGpu ? gpu_->context().device().name : "cpu";

@@ -144,6 +144,9 @@ QString labelOf(const ViewFrame& f, bool reference) {
         if (f.spp > 1) line += QString("  %1 spp").arg(f.spp);
     }
     if (f.rendering) line += "  (rendering)";
+    // A view without its own lights/media renders what its technique supports: say that the scene is not all there.
+    const Image* shown = reference ? f.reference.get() : f.image.get();
+    if (shown && shown->metadata.count("leftOut")) line += "  (leaves out part of the scene)";
     if (!f.error.isEmpty()) line = f.name + "  -  " + f.error.left(120);
     return line;
 }

@@ -126,7 +126,10 @@ void RenderService::run() {
             if (Clock::now() - lastPost < std::chrono::milliseconds(200)) return;
             lastPost = Clock::now();
             RenderOutput partial = out;
-            partial.image = std::make_shared<Image>(image);
+            auto copy = std::make_shared<Image>(image);
+            // The job's metadata (project hash, what the view leaves out) travels with every image, not only the last.
+            for (const auto& [key, value] : task->job->metadata) copy->metadata[key] = value;
+            partial.image = std::move(copy);
             partial.spp = spp;
             partial.seconds = std::chrono::duration<double>(Clock::now() - started).count();
             trace("%s %d: image posted (%d spp)", task->reference ? "reference" : "view", task->view, spp);

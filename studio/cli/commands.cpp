@@ -107,6 +107,19 @@ void writeTextAtomically(const std::string& path, const std::string& text, const
     }
 }
 
+// "1 view", "3 views".
+std::string counted(std::size_t n, const char* noun) {
+    return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
+// Warns on stderr of what a render leaves out of the scene (a view without its own lights/media).
+void warnLeftOut(const RenderJob& job, const std::string& prefix) {
+    if (job.leftOut.empty()) return;
+    std::fprintf(stderr, "%swarning: %s leaves out what its technique cannot render (name them in the view's "
+                         "\"lights\"/\"media\" to make this an error):\n", prefix.c_str(), job.label.c_str());
+    for (const std::string& line : job.leftOut) std::fprintf(stderr, "%s  %s\n", prefix.c_str(), line.c_str());
+}
+
 std::string formatNumber(double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -142,6 +155,7 @@ int render(const RenderArgs& args) {
         options.threads = args.threads;
         RenderJob job = args.reference ? makeReferenceJob(project, args.project, args.view, options)
                                        : makeViewJob(project, args.project, args.view, options);
+        warnLeftOut(job, "tyndall: ");
 
         std::signal(SIGINT, onInterrupt);
         ProgressBar bar("rendering " + job.label);
@@ -205,8 +219,14 @@ int validate(const ValidateArgs& args) {
         int code = guarded([&] {
             Project project = loadProject(path, args.sets);
             // Every view must be renderable: its technique must support its part of the scene.
-            for (const View& view : project.views) (void)makeViewJob(project, path, view.name);
-            std::printf("%s: ok (%zu views)\n", path.c_str(), project.views.size());
+            std::size_t partial = 0;
+            for (const View& view : project.views) {
+                const RenderJob job = makeViewJob(project, path, view.name);
+                warnLeftOut(job, path + ": ");
+                partial += job.leftOut.empty() ? 0 : 1;
+            }
+            std::printf("%s: ok (%s%s)\n", path.c_str(), counted(project.views.size(), "view").c_str(),
+                        partial ? (", " + std::to_string(partial) + " leaving out part of the scene").c_str() : "");
             return int(kOk);
         });
         worst = std::max(worst, code);

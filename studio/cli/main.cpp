@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--spp", render.spp, "samples per pixel");
     renderCmd->add_option("--size", render.size, "image size WIDTHxHEIGHT");
     renderCmd->add_option("--seed", render.seed, "random seed");
-    renderCmd->add_option("--time", render.time, "time budget in seconds (progressive techniques stop at spp or time)");
+    renderCmd->add_option("--time", render.time, "render until this many seconds (progressive techniques; --spp beside it is a cap)");
     renderCmd->add_option("--threads", render.threads, "CPU threads (0: all)");
     renderCmd->add_option("--out,-o", render.outs, "output image(s): .exr (float + metadata) or .png (tonemapped)");
     renderCmd->add_option("--exposure", render.exposure, "exposure in stops for PNG output (default: the view's)");

@@ -18,12 +18,15 @@ struct RenderJob {
     std::unique_ptr<Technique> technique;
     RenderRequest request;
     double exposure = 0.0;                  // the view's exposure, for PNGs and PSNR
+    // What the scene holds that this render leaves out, one line each with the reason: a view without its own
+    // `lights`/`media` renders only those its technique supports. Also in the metadata as "leftOut".
+    std::vector<std::string> leftOut;
     std::map<std::string, std::string> metadata;  // written into the image on completion
 };
 
 struct JobOptions {
-    std::optional<int> spp;               // overrides the technique's / reference's default
-    std::optional<double> timeLimit;      // s
+    std::optional<int> spp;               // overrides the technique's / reference's default; with timeLimit, a cap
+    std::optional<double> timeLimit;      // s; alone, the render runs until it (no spp cap)
     std::optional<std::uint64_t> seed;
     int threads = 0;
 };

@@ -23,9 +23,12 @@ struct Support {
 };
 
 struct RenderRequest {
+    // spp that means "no cap": a progressive technique runs until timeLimit (never without one).
+    static constexpr int kUnboundedSpp = 1 << 30;
+
     Scene scene;             // already narrowed to the view's part (ScenePart::apply)
     ParamSet params;         // complete and valid for the technique
-    int spp = 0;             // samples per pixel to reach; 0: the technique's own default
+    int spp = 0;             // samples per pixel to reach; 0: the technique's own default; kUnboundedSpp: no cap
     double timeLimit = 0.0;  // s of wall time; 0: no limit. A progressive technique stops at whichever comes first
     std::uint64_t seed = 1;
     int threads = 0;         // 0: all cores
@@ -80,6 +83,8 @@ public:
     std::vector<std::string> unsupported(const Scene& scene) const;
     // The lights and media of `scene` that this technique supports: a view's default part.
     ScenePart defaultPart(const Scene& scene) const;
+    // The lights and media of `scene` that the default part leaves out, one line each with the reason.
+    std::vector<std::string> leftOut(const Scene& scene) const;
 
     // Renders progressively until request.spp or request.timeLimit; throws Cancelled when cancelled, InputError when
     // the scene holds something unsupported (never a black image).
@@ -94,6 +99,9 @@ protected:
     // The metadata every render carries: technique, parameters (JSON), spp, renderTime, seed.
     void stampMetadata(RenderResult& result, const RenderRequest& request) const;
 };
+
+// A progressive render's progress in [0, 1]: the larger of its share of targetSpp and of timeLimit (0: none).
+double progressFraction(double doneSpp, int targetSpp, double elapsedSeconds, double timeLimit);
 
 // Registry by name. Built-in techniques are registered explicitly (static registration is dropped by linkers when the
 // library is static).
