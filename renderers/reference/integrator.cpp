@@ -661,10 +661,17 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
     const bool areaNee = options_.light != LightStrategy::PhaseSampling;
     const bool areaPhase = options_.light != LightStrategy::LightSampling;
 
-    // Per segment and light: which techniques of the table above are enabled.
+    // Per segment and light: which techniques of the table above are enabled. Auto keeps delta tracking where it
+    // pays (measured in docs/reference.md): for directional lights, whose light-targeted technique is uniform in the
+    // beam, and on segments through particle media, whose extinction varies; point and area lights in homogeneous
+    // media take equiangular distances alone.
+    bool particlesOnSegment = false;
     auto t1Enabled = [&](int l, bool targetedAvailable) {
         if (!options_.transmittance) return false;
         if (isAreaLight(l) && !areaNee) return false;
+        if (options_.distance == DistanceStrategy::Auto)
+            return !targetedAvailable || particlesOnSegment ||
+                   (l >= int(scene_.pointLights.size()) && !isAreaLight(l));
         return distanceOn || !targetedAvailable;
     };
     auto t2Enabled = [&](int l, bool targetedAvailable) {
@@ -695,6 +702,8 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
         SurfaceHit hit;
         bool hasHit = scene_.embree->intersect(origin, dir, tNear, kInf, hit);
         buildSegment(origin, dir, hasHit ? hit.t : kInf, segment);
+        particlesOnSegment = std::any_of(segment.spans.begin(), segment.spans.end(),
+                                         [](const Span& s) { return s.particle >= 0; });
 
         // Area lights reached by the direction sampled at the previous vertex (T3 and surface BSDF sampling).
         if (pending.active) {

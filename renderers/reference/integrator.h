@@ -104,7 +104,9 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
 
 // ---------------------------------------------------------------------------------------------------------------------
 
-enum class DistanceStrategy { Mis, Distance, LightTargeted };  // how scattering distances are chosen along a ray
+// How scattering distances are chosen along a ray: both techniques, delta tracking only, light-targeted only, or
+// light-targeted alone for point and area lights in homogeneous media and both elsewhere (Auto, docs/reference.md).
+enum class DistanceStrategy { Mis, Distance, LightTargeted, Auto };
 enum class LightStrategy { Mis, LightSampling, PhaseSampling };  // how directions to area lights are chosen
 
 struct IntegratorOptions {

@@ -133,6 +133,21 @@ double phaseValue(const PhaseFunction& p, double mu) {
     return double(shader::phaseEval(toPhaseParams(p), float(mu)));
 }
 
+// The part [t0, t1] (t0 >= 0) of the ray x + t w inside the intersection of half-spaces; false when empty.
+bool clipToHalfSpaces(const std::vector<HalfSpace>& planes, const glm::dvec3& x, const glm::dvec3& w, double& t0,
+                      double& t1) {
+    t0 = 0.0;
+    t1 = 1e30;
+    for (const HalfSpace& h : planes) {
+        double denom = glm::dot(h.normal, w), dist = h.offset - glm::dot(h.normal, x);
+        if (denom == 0.0) continue;
+        double t = dist / denom;
+        if (denom > 0.0) t1 = std::min(t1, t);
+        else t0 = std::max(t0, t);
+    }
+    return t0 < t1;
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 
 TEST(ReferenceSingleScattering, EquiangularIsExactWithoutTransmittance) {
@@ -236,18 +251,9 @@ TEST(ReferenceSingleScattering, DirectionalLightInBoxMatchesQuadrature) {
         const glm::dvec3 o(0.0, 0.2 * u(rng), 0.0);
         const glm::dvec3 d = glm::normalize(glm::dvec3(0.1 * u(rng), 0.1 * u(rng), -1.0));
         const std::vector<HalfSpace> planes = boxHalfSpaces(fog.box);
-        // Distance along a ray from x to the box's boundary (x inside), and the ray's [t0, t1] inside the box.
+        // The ray's [t0, t1] inside the box; t1 is the distance from x to the boundary when x is inside.
         auto clip = [&](const glm::dvec3& x, const glm::dvec3& w, double& t0, double& t1) {
-            t0 = 0.0;
-            t1 = 1e30;
-            for (const HalfSpace& h : planes) {
-                double denom = glm::dot(h.normal, w), dist = h.offset - glm::dot(h.normal, x);
-                if (denom == 0.0) continue;
-                double t = dist / denom;
-                if (denom > 0.0) t1 = std::min(t1, t);
-                else t0 = std::max(t0, t);
-            }
-            return t0 < t1;
+            return clipToHalfSpaces(planes, x, w, t0, t1);
         };
         double a, b;
         ASSERT_TRUE(clip(o, d, a, b)) << "the camera ray must cross the box";
@@ -336,6 +342,113 @@ TEST(ReferenceSingleScattering, ParticleMediumMatchesQuadrature) {
     expectAgrees(e, exact, "particle");
 }
 
+// An infinite medium named "fog" with a Henyey-Greenstein phase function.
+HomogeneousMedium hgFog(const Rgb& sigma_s, const Rgb& sigma_a, double g) {
+    HomogeneousMedium fog;
+    fog.name = "fog";
+    fog.sigma_s = sigma_s;
+    fog.sigma_a = sigma_a;
+    fog.phase.kind = PhaseKind::HenyeyGreenstein;
+    fog.phase.g = g;
+    return fog;
+}
+
+// The default distance strategy of reference jobs (auto: equiangular alone for point lights in homogeneous media,
+// MIS for directional lights and particle media) on quadratures: a point light in an infinite medium (HG g = 0.5, the
+// fog of issue 16), a spot light inside and a directional light on a rotated box.
+TEST(ReferenceSingleScattering, AutoDistancesMatchQuadrature) {
+    IntegratorOptions options;
+    options.distance = reference::DistanceStrategy::Auto;
+    {
+        const double g = 0.5;
+        Scene scene = emptyScene();
+        const HomogeneousMedium fog = hgFog(Rgb(0.27, 0.3, 0.2), Rgb(0.03, 0.05, 0.02), g);
+        scene.media.push_back(fog);
+        PointLight light;
+        light.name = "lamp";
+        light.position = Vec3(0.3, 1.5, -3.0);
+        light.intensity = Rgb(3.0, 2.0, 1.0);
+        scene.pointLights.push_back(light);
+        auto rs = reference::prepareScene(scene, ".");
+        const glm::dvec3 o(0.0, 0.2, 0.0), d = glm::normalize(glm::dvec3(0.05, 0.1, -1.0));
+        glm::dvec3 exact;
+        for (int c = 0; c < 3; ++c) {
+            const double st = fog.sigma_t()[c], ss = fog.sigma_s[c];
+            auto f = [&](double t) {
+                glm::dvec3 x = o + t * d, toLight = light.position - x;
+                double r = glm::length(toLight);
+                return std::exp(-st * (t + r)) * ss * phaseValue(fog.phase, glm::dot(d, toLight / r)) *
+                       light.intensity[c] / (r * r);
+            };
+            exact[c] = integrateToInfinity(f, std::max(0.5, glm::dot(light.position - o, d)), 1e-10);
+        }
+        Integrator integrator(*rs, options);
+        Estimate e = estimateRay(integrator, glm::vec3(o), glm::vec3(d), 512, 400, 31u);
+        expectAgrees(e, exact, "point light, g = " + std::to_string(g));
+    }
+    for (int kind = 0; kind < 2; ++kind) {
+        Scene scene = emptyScene();
+        HomogeneousMedium fog = hgFog(Rgb(0.5, 0.4, 0.3), Rgb(0.1, 0.2, 0.05), 0.6);
+        fog.shape = MediumShape::Box;
+        fog.box.centre = Vec3(0.0, 0.0, -3.0);
+        fog.box.size = Vec3(2.0, 1.5, 2.5);
+        fog.box.rotate = Vec3(10.0, 30.0, 5.0);
+        scene.media.push_back(fog);
+        const std::vector<HalfSpace> planes = boxHalfSpaces(fog.box);
+        auto clip = [&](const glm::dvec3& x, const glm::dvec3& w, double& t0, double& t1) {
+            return clipToHalfSpaces(planes, x, w, t0, t1);
+        };
+        PointLight spot;
+        DirectionalLight sun;
+        if (kind == 0) {
+            spot.name = "spot";
+            spot.position = Vec3(0.4, 0.3, -2.8);  // inside the box
+            spot.intensity = Rgb(4.0);
+            spot.distribution.kind = AngularDistribution::Kind::Spot;
+            spot.distribution.spotExponent = 8.0;
+            spot.distribution.axis = glm::normalize(Vec3(-0.2, -1.0, 0.3));
+            scene.pointLights.push_back(spot);
+        } else {
+            sun.name = "sun";
+            sun.direction = glm::normalize(Vec3(0.3, -1.0, 0.2));
+            sun.irradiance = Rgb(2.0, 3.0, 4.0);
+            scene.directionalLights.push_back(sun);
+        }
+        auto rs = reference::prepareScene(scene, ".");
+        const glm::dvec3 o(0.0, 0.0, 0.0), d = glm::normalize(glm::dvec3(0.05, -0.1, -1.0));
+        double a, b;
+        ASSERT_TRUE(clip(o, d, a, b));
+        glm::dvec3 exact;
+        for (int c = 0; c < 3; ++c) {
+            const double st = fog.sigma_t()[c], ss = fog.sigma_s[c];
+            auto f = [&](double t) {
+                glm::dvec3 x = o + t * d;
+                double s0, s1;
+                if (kind == 1) {
+                    clip(x, -sun.direction, s0, s1);
+                    return std::exp(-st * (t - a)) * ss * phaseValue(fog.phase, glm::dot(d, -sun.direction)) *
+                           sun.irradiance[c] * std::exp(-st * s1);
+                }
+                glm::dvec3 toLight = spot.position - x;
+                double r = glm::length(toLight);
+                glm::dvec3 wi = toLight / r;
+                double profile = std::pow(0.5 * (1.0 + glm::dot(-wi, spot.distribution.axis)), 8.0);
+                return std::exp(-st * (t - a)) * ss * phaseValue(fog.phase, glm::dot(d, wi)) * spot.intensity[c] *
+                       profile / (r * r) * std::exp(-st * r);
+            };
+            if (kind == 1) {
+                exact[c] = adaptiveSimpson(f, a, b, 1e-11);
+            } else {
+                double tc = glm::dot(spot.position - o, d);
+                exact[c] = adaptiveSimpson(f, a, tc, 1e-11) + adaptiveSimpson(f, tc, b, 1e-11);
+            }
+        }
+        Integrator integrator(*rs, options);
+        Estimate e = estimateRay(integrator, glm::vec3(o), glm::vec3(d), 512, 400, 37u);
+        expectAgrees(e, exact, kind == 0 ? "spot in box" : "sun on box");
+    }
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Multiple scattering: every strategy estimates the same integral.
 
@@ -384,6 +497,7 @@ TEST(ReferenceMultipleScattering, StrategiesAgree) {
         {"NEE with equiangular only", reference::DistanceStrategy::LightTargeted, reference::LightStrategy::LightSampling},
         {"phase/BSDF sampling only", reference::DistanceStrategy::Distance, reference::LightStrategy::PhaseSampling},
         {"MIS of all", reference::DistanceStrategy::Mis, reference::LightStrategy::Mis},
+        {"auto distances, MIS of lights", reference::DistanceStrategy::Auto, reference::LightStrategy::Mis},
     };
     const glm::vec3 o(0.0f, 1.0f, 0.0f);
     const glm::vec3 dirs[] = {glm::normalize(glm::vec3(0.0f, -0.05f, -1.0f)), glm::normalize(glm::vec3(0.1f, -0.3f, -1.0f))};
