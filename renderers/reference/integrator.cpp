@@ -80,25 +80,62 @@ float fanSolidAngles(const PreparedAreaLight& light, const vec3& x, std::vector<
     return total;
 }
 
+// gamma(n) = n eps / (1 - n eps) with eps = 2^-24, the unit roundoff of float: the relative error bound of n
+// successive float operations (Higham; pbrt-v4, Sec. 6.8.1).
+constexpr float floatGamma(int n) {
+    constexpr float eps = 0.5f * std::numeric_limits<float>::epsilon();
+    return float(n) * eps / (1.0f - float(n) * eps);
+}
+
 }  // namespace
+
+// The hit point: the ray intersected in double with the plane of the (float) triangle Embree hit, rounded once to
+// float. Embree's own t and barycentrics each carry an error of a few ulps of the triangle's size (3e-5 m on a 1 km
+// ground: 1e-4 of the irradiance half a metre from a light); this point is off the exact intersection by half an ulp
+// of its coordinates. Its error bound, for offsetting rays that leave it, adds gamma(7) sum |b_i p_i| (the bound of
+// the barycentric sum in float, pbrt-v4 Sec. 6.8.5): a shadow ray's own test against this triangle in Embree rounds
+// in proportion to the vertices' magnitudes, not to the point's, and the origin must clear that too.
+SurfacePoint surfacePoint(const TriangleGeometry& mesh, const SurfaceHit& hit, const vec3& origin, const vec3& dir) {
+    const glm::uvec3& tri = mesh.triangles[hit.triangle];
+    const glm::dvec3 p0(mesh.positions[tri.x]), p1(mesh.positions[tri.y]), p2(mesh.positions[tri.z]);
+    const double b1 = hit.u, b2 = hit.v, b0 = 1.0 - b1 - b2;
+    const glm::dvec3 o(origin), d(dir);
+    const glm::dvec3 n = glm::cross(p1 - p0, p2 - p0);
+    const double cosine = glm::dot(n, d);
+    const glm::dvec3 p = cosine != 0.0 ? o + (glm::dot(n, p0 - o) / cosine) * d : b0 * p0 + b1 * p1 + b2 * p2;
+    SurfacePoint sp;
+    sp.p = vec3(p);
+    sp.error = floatGamma(7) * vec3(glm::abs(b0 * p0) + glm::abs(b1 * p1) + glm::abs(b2 * p2)) +
+               floatGamma(1) * glm::abs(sp.p);
+    return sp;
+}
+
+// The origin of a ray leaving a surface point towards w: moved along the geometric normal to the face of the point's
+// error box on w's side (the distance dot(|n|, error)), then each moved coordinate rounded one float further, so that
+// the origin lies strictly on w's side of the true surface (pbrt-v4's OffsetRayOrigin, Sec. 6.8.6). Coordinates along
+// which the normal has a component move by at least one float even when the error bound is zero (a plane at y = 0).
+vec3 offsetRayOrigin(const SurfacePoint& sp, const vec3& ng, const vec3& w) {
+    const float d = glm::dot(glm::abs(ng), sp.error);
+    const vec3 n = glm::dot(w, ng) < 0.0f ? -ng : ng;
+    vec3 po = sp.p + d * n;
+    for (int i = 0; i < 3; ++i) {
+        if (n[i] > 0.0f) po[i] = std::nextafter(po[i], kInf);
+        else if (n[i] < 0.0f) po[i] = std::nextafter(po[i], -kInf);
+    }
+    return po;
+}
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Scene preparation
 
 std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string& projectDir) {
     auto rs = std::make_unique<RenderScene>();
-    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    auto grow = [&](const Vec3& p) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    };
 
     // Camera
     const Camera& cam = scene.camera;
     rs->camera = toCameraParams(cam);
     rs->width = cam.width;
     rs->height = cam.height;
-    grow(cam.position);
 
     // Media
     std::vector<ConvexVolume> volumes;
@@ -116,8 +153,6 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
             ConvexPolyhedron poly = makeConvexPolyhedron(planes);
             volumes.push_back(toConvexVolume(poly.planes, poly.boundsMin, poly.boundsMax));
             rs->elements.push_back(MediumElement{index, -1});
-            grow(poly.boundsMin);
-            grow(poly.boundsMax);
         }
         rs->media.push_back(pm);
     }
@@ -138,8 +173,6 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
             rs->particles.push_back(pp);
             std::array<Vec3, 4> v = tetrahedronVertices(p);
             volumes.push_back(tetrahedronVolume(v));
-            for (const Vec3& q : v)
-                grow(q);
         }
     }
 
@@ -152,7 +185,6 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
         for (double c : l.distribution.polynomial())
             p.polynomial.push_back(float(c));
         rs->pointLights.push_back(p);
-        grow(l.position);
     }
     for (const DirectionalLight& l : scene.directionalLights) {
         PreparedDirectionalLight p;
@@ -188,7 +220,6 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
         for (const Vec3& v : l.vertices) {
             p.vertices.push_back(toVec3(v));
             centroid += v;
-            grow(v);
         }
         p.centroid = toVec3(centroid / double(l.vertices.size()));
         p.normal = toVec3(polygonNormal(l.vertices));
@@ -209,8 +240,6 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
         g.positions = tm.positions;
         g.normals = tm.normals;
         g.triangles = tm.triangles;
-        for (const glm::vec3& p : tm.positions)
-            grow(Vec3(p));
         geometry.push_back(std::move(g));
         PreparedMesh pm;
         auto it = std::find_if(scene.materials.begin(), scene.materials.end(),
@@ -222,7 +251,6 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
         pm.tangent = toVec3(mesh.tangent);
         rs->meshes.push_back(pm);
     }
-    rs->sceneScale = float(std::max(1e-3, glm::length(hi - lo)));
     rs->embree = std::make_unique<EmbreeScene>(geometry, std::move(volumes));
     return rs;
 }
@@ -632,12 +660,18 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
     const bool targetedOn = options_.distance != DistanceStrategy::Distance;
     const bool areaNee = options_.light != LightStrategy::PhaseSampling;
     const bool areaPhase = options_.light != LightStrategy::LightSampling;
-    const float offset = 1e-4f * scene_.sceneScale;
 
-    // Per segment and light: which techniques of the table above are enabled.
+    // Per segment and light: which techniques of the table above are enabled. Auto keeps delta tracking where it
+    // pays (measured in docs/reference.md): for directional lights, whose light-targeted technique is uniform in the
+    // beam, and on segments through particle media, whose extinction varies; point and area lights in homogeneous
+    // media take equiangular distances alone.
+    bool particlesOnSegment = false;
     auto t1Enabled = [&](int l, bool targetedAvailable) {
         if (!options_.transmittance) return false;
         if (isAreaLight(l) && !areaNee) return false;
+        if (options_.distance == DistanceStrategy::Auto)
+            return !targetedAvailable || particlesOnSegment ||
+                   (l >= int(scene_.pointLights.size()) && !isAreaLight(l));
         return distanceOn || !targetedAvailable;
     };
     auto t2Enabled = [&](int l, bool targetedAvailable) {
@@ -668,6 +702,8 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
         SurfaceHit hit;
         bool hasHit = scene_.embree->intersect(origin, dir, tNear, kInf, hit);
         buildSegment(origin, dir, hasHit ? hit.t : kInf, segment);
+        particlesOnSegment = std::any_of(segment.spans.begin(), segment.spans.end(),
+                                         [](const Span& s) { return s.particle >= 0; });
 
         // Area lights reached by the direction sampled at the previous vertex (T3 and surface BSDF sampling).
         if (pending.active) {
@@ -740,13 +776,15 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
 
         // Direct light at the surface, weighted by the exact transmittance in front of it.
         SurfaceHit surface = hit;
+        SurfacePoint sp;
         vec3 n(0.0f), ng(0.0f), tangent(0.0f), bitangent(0.0f), xs(0.0f);
         MaterialParams material{};
         vec3 woLocal(0.0f);
         if (hasHit) {
             const TriangleGeometry& mesh = scene_.embree->meshes()[surface.mesh];
             const glm::uvec3& tri = mesh.triangles[surface.triangle];
-            xs = origin + surface.t * dir;
+            sp = surfacePoint(mesh, surface, origin, dir);
+            xs = sp.p;
             ng = surface.geometricNormal;
             if (glm::dot(ng, dir) > 0.0f) ng = -ng;
             n = ng;
@@ -768,16 +806,16 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
             woLocal = toLocal(-dir);
             vec3 Ts = transmittance(segment, 0.0f, surface.t);
             if (!isBlack(Ts)) {
-                vec3 xo = xs + ng * offset;
+                // The light is sampled and evaluated at the hit point itself; only the shadow ray starts off the surface.
                 for (int l = 0; l < nLights; ++l) {
                     if (isAreaLight(l) && !areaNee) continue;
                     LightSample ls;
-                    if (!sampleLight(l, xo, samples.next2D(), ls)) continue;
+                    if (!sampleLight(l, xs, samples.next2D(), ls)) continue;
                     vec3 wiLocal = toLocal(ls.wi);
                     if (wiLocal.z <= 0.0f || glm::dot(ls.wi, ng) <= 0.0f) continue;
                     vec3 f = shader::bsdfEval(material, woLocal, wiLocal) * wiLocal.z * ls.Li;
                     if (isBlack(f)) continue;
-                    f *= shadowTransmittance(xo, ls.wi, ls.distance, 0.0f);
+                    f *= shadowTransmittance(offsetRayOrigin(sp, ng, ls.wi), ls.wi, ls.distance, 0.0f);
                     float weight = 1.0f;
                     if (isAreaLight(l) && areaPhase && ls.pdf > 0.0f) {
                         float pB = shader::bsdfPdf(material, woLocal, wiLocal);
@@ -835,9 +873,9 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
             pending.active = areaPhase;
             pending.medium = false;
             pending.pDistance = 0.0f;
-            pending.x = xs + ng * offset;
+            pending.x = xs;
             pending.pDirection = pB;
-            origin = xs + ng * offset;
+            origin = offsetRayOrigin(sp, ng, wi);
             dir = wi;
             tNear = 0.0f;
         } else {

@@ -85,9 +85,18 @@ struct RenderScene {
     std::vector<MaterialParams> materials;
     std::vector<PreparedMesh> meshes;
     std::unique_ptr<EmbreeScene> embree;
-    float sceneScale = 1.0f;  // m, the size of the scene's bounds, for ray offsets
-
 };
+
+// A point on a triangle with a bound on the absolute rounding error of each coordinate (m).
+struct SurfacePoint {
+    vec3 p{0.0f};
+    vec3 error{0.0f};
+};
+// Where the ray (origin, dir) meets the triangle of `hit` (docs/reference.md, Surfaces).
+SurfacePoint surfacePoint(const TriangleGeometry& mesh, const SurfaceHit& hit, const vec3& origin, const vec3& dir);
+// The origin for a ray leaving sp towards w (either side of the geometric normal ng): strictly on w's side of the
+// surface, by no more than the point's error bound and one float.
+vec3 offsetRayOrigin(const SurfacePoint& sp, const vec3& ng, const vec3& w);
 
 // Throws InputError for scene content that cannot be prepared (e.g. a missing OBJ file).
 std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string& projectDir);
@@ -95,7 +104,9 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
 
 // ---------------------------------------------------------------------------------------------------------------------
 
-enum class DistanceStrategy { Mis, Distance, LightTargeted };  // how scattering distances are chosen along a ray
+// How scattering distances are chosen along a ray: both techniques, delta tracking only, light-targeted only, or
+// light-targeted alone for point and area lights in homogeneous media and both elsewhere (Auto, docs/reference.md).
+enum class DistanceStrategy { Mis, Distance, LightTargeted, Auto };
 enum class LightStrategy { Mis, LightSampling, PhaseSampling };  // how directions to area lights are chosen
 
 struct IntegratorOptions {

@@ -40,10 +40,11 @@ std::vector<ParamInfo> ReferenceTechnique::parameters() const {
         i.name = "distanceSampling";
         i.type = ParamType::Enum;
         i.doc =
-            "how scattering distances for light sampling are chosen: MIS of both, delta tracking only, or "
-            "light-targeted where available (equiangular for point and area lights, uniform in a beam)";
-        i.enumValues = {"mis", "distance", "equiangular"};
-        i.defaultValue = std::string("mis");
+            "how scattering distances for light sampling are chosen: equiangular alone for point and area lights "
+            "in homogeneous media and MIS of both elsewhere, MIS of both, delta tracking only, or light-targeted "
+            "where available (equiangular for point and area lights, uniform in a beam)";
+        i.enumValues = {"auto", "mis", "distance", "equiangular"};
+        i.defaultValue = std::string("auto");
         p.push_back(i);
     }
     {
@@ -69,7 +70,8 @@ IntegratorOptions optionsFrom(const ParamSet& params) {
     const std::string& d = params.getEnum("distanceSampling");
     o.distance = d == "distance"      ? reference::DistanceStrategy::Distance
                  : d == "equiangular" ? reference::DistanceStrategy::LightTargeted
-                                      : reference::DistanceStrategy::Mis;
+                 : d == "mis"         ? reference::DistanceStrategy::Mis
+                                      : reference::DistanceStrategy::Auto;
     const std::string& l = params.getEnum("lightSampling");
     o.light = l == "light"   ? reference::LightStrategy::LightSampling
               : l == "phase" ? reference::LightStrategy::PhaseSampling
