@@ -101,6 +101,32 @@ TEST(LtsdTable, HgIntegralMatchesQuadratureOverRandomPolygons) {
     std::printf("worst absolute error %.3e\n", worst);
 }
 
+// The shipped entries' transformed distributions integrate to 1 over the sphere: a_u D_u + a_l D_l sums to a_u + a_l = 1
+// (quadrature over each hemisphere in (z, phi); float densities, so 1e-4). And the polar curve for the studio holds HG
+// itself and the same fitted density.
+TEST(LtsdTable, FittedDensityIntegratesToOneAndFeedsThePolarCurve) {
+    const LtsdTable& t = shipped();
+    for (double g : {-0.9, -0.4, 0.0, 0.3, 0.85}) {
+        const auto f = [&](double z, double phi) { return t.density(test::unitFromAngles(z, phi), g); };
+        const double upper = test::integrate2D(f, 0.0, 1.0, 0.0, 2.0 * kPi, 1e-9, 1e-6);
+        const double lower = test::integrate2D(f, -1.0, 0.0, 0.0, 2.0 * kPi, 1e-9, 1e-6);
+        EXPECT_NEAR(upper, hgUpperAmplitude(g), 1e-4) << g;
+        EXPECT_NEAR(upper + lower, 1.0, 1e-4) << g;
+        for (const LtsdPolarPoint& p : ltsdPolarCurve(t, g, 36)) {
+            const dvec3 w(std::sin(p.psi), 0.0, std::cos(p.psi));
+            const LtsdPhase hg{"hg", g};
+            EXPECT_DOUBLE_EQ(p.phase, hg.eval(-w.z));
+            EXPECT_DOUBLE_EQ(p.fitted, t.density(w, g));
+        }
+    }
+    const std::vector<LtsdFitError> curve = ltsdFitErrorCurve(t, 9);
+    ASSERT_EQ(curve.size(), 9u);
+    for (const LtsdFitError& e : curve) {
+        EXPECT_GT(e.tvUpper, 0.0);
+        EXPECT_LT(e.bound, 0.25) << e.g;
+    }
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Loader refusals: each is an InputError naming the file.
 
