@@ -395,4 +395,42 @@ TEST(Cli, SetAppendsAnArrayElement) {
     }
 }
 
+// `tyndall tables` prints the shipped HG table's provenance; `tables eval` prints the LTSD value of a polygon's
+// integral next to the exact one (a polygon around -z, HG's forward peak for g = 0.5: within the shipped fit's error,
+// docs/tables.md), and bad phase functions, polygons and table folders are refused with exit code 2 and a reason.
+TEST(Cli, TablesPrintsProvenanceAndEvaluatesAPolygon) {
+    CliRun info = tyndall("tables --tables '" + source("tables") + "'");
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    EXPECT_NE(info.output.find("2 x 128 entries"), std::string::npos) << info.output;
+    EXPECT_NE(info.output.find("\"loss\":\"sw\""), std::string::npos) << info.output;
+
+    const std::string polygon = "'[[0.3,0.2,-1],[-0.3,0.25,-1],[-0.2,-0.3,-1],[0.25,-0.2,-1]]'";
+    CliRun eval = tyndall("tables eval --phase '{\"type\":\"hg\",\"g\":0.5}' --polygon " + polygon);
+    ASSERT_EQ(eval.exitCode, 0) << eval.output;
+    const nlohmann::json j = nlohmann::json::parse(eval.output);
+    EXPECT_GT(j["exact"].get<double>(), 0.05);
+    EXPECT_NEAR(j["ltsd"].get<double>(), j["exact"].get<double>(), 0.05);  // the fit's worst case over test polygons
+    EXPECT_NEAR(j["solidAngle"].get<double>(), 0.235, 0.01);
+    EXPECT_EQ(j["clampedCosine"].get<double>(), 0.0);  // entirely below the horizon
+    EXPECT_FALSE(j["gClamped"].get<bool>());
+
+    struct Case {
+        std::string args, expected;
+    };
+    const Case cases[] = {
+        {"tables eval --phase '{\"type\":\"rayleigh\"}' --polygon " + polygon, "no LTSD table for 'rayleigh'"},
+        {"tables eval --phase '{\"type\":\"hg\",\"g\":1.5}' --polygon " + polygon, "--phase.g"},
+        {"tables eval --phase '{\"type\":\"hg\"' --polygon " + polygon, "not valid JSON"},
+        {"tables eval --phase '{\"type\":\"hg\"}' --polygon '[[0,0,1],[1,0,0]]'", "3 to 9 directions"},
+        {"tables eval --phase '{\"type\":\"hg\"}' --polygon '[[1,0,0],[0,1,0],[-1,0,0],[0,-1,0.5],[0,0,-1]]'",
+         "convex"},
+        {"tables --tables '" + scratch("no-tables").string() + "'", "no-tables/hg.ltsd: cannot open"},
+    };
+    for (const Case& c : cases) {
+        CliRun r = tyndall(c.args);
+        EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
+    }
+}
+
 }  // namespace

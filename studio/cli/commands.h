@@ -61,4 +61,17 @@ struct InfoArgs {
 };
 int info(const InfoArgs& args);
 
+struct TablesArgs {
+    std::string tables;  // folder holding the tables (default: installed beside the program, or $TYNDALL_TABLES_DIR)
+    bool json = false;
+};
+int tables(const TablesArgs& args);
+
+struct TablesEvalArgs {
+    std::string tables;
+    std::string phase;    // project-format phase function, e.g. {"type":"hg","g":0.5}
+    std::string polygon;  // JSON list of directions [[x,y,z], ...] in the frame where omega_o is +z
+};
+int tablesEval(const TablesEvalArgs& args);
+
 }  // namespace tyndall::cli

@@ -63,6 +63,21 @@ int main(int argc, char** argv) {
     CLI::App* infoCmd = app.add_subcommand("info", "devices, version, techniques and their parameters");
     infoCmd->add_flag("--json", info.json, "print as JSON");
 
+    TablesArgs tablesArgs;
+    CLI::App* tablesCmd = app.add_subcommand("tables", "the fitted LTSD tables: provenance and error summary (docs/tables.md)");
+    tablesCmd->add_option("--tables", tablesArgs.tables, "folder holding the tables (default: installed with tyndall; or $TYNDALL_TABLES_DIR)");
+    tablesCmd->add_flag("--json", tablesArgs.json, "print as JSON");
+    tablesCmd->require_subcommand(0, 1);
+    TablesEvalArgs evalArgs;
+    CLI::App* evalCmd = tablesCmd->add_subcommand(
+        "eval", "the LTSD value of a phase function's integral over a spherical polygon, against adaptive quadrature (JSON)");
+    evalCmd->add_option("--tables", evalArgs.tables, "folder holding the tables");
+    evalCmd->add_option("--phase", evalArgs.phase, "phase function as in a project, e.g. '{\"type\":\"hg\",\"g\":0.5}'")->required();
+    evalCmd->add_option("--polygon", evalArgs.polygon,
+                        "vertices as directions in the frame where omega_o (towards the viewer) is +z, e.g. "
+                        "'[[0.1,0,-1],[0,0.1,-1],[-0.1,-0.1,-1]]'; convex, inside a hemisphere, at most 9")
+        ->required();
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -74,5 +89,10 @@ int main(int argc, char** argv) {
     if (compareCmd->parsed()) return tyndall::cli::compare(compare);
     if (probeCmd->parsed()) return tyndall::cli::probe(probe);
     if (infoCmd->parsed()) return tyndall::cli::info(info);
+    if (evalCmd->parsed()) {
+        if (evalArgs.tables.empty()) evalArgs.tables = tablesArgs.tables;
+        return tyndall::cli::tablesEval(evalArgs);
+    }
+    if (tablesCmd->parsed()) return tyndall::cli::tables(tablesArgs);
     return kBadInput;
 }

@@ -1,0 +1,113 @@
+// LTSD tables of phase functions (LTSD paper (000), Sec. 5 and 7): the fitted entries, their file format (versioned,
+// checksummed, docs/tables.md), where installed tables are found, the run-time fetch of Eq. 24 and S of Eq. 21 on the
+// CPU, and the data behind the studio's plots (polar curves of the phase function against its fit, fit error
+// against g). The fitter itself is in tables/ (tyndall-fit-tables).
+#pragma once
+
+#include "shared/ltsd.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace tyndall {
+
+// The phase functions a table can be fitted to, evaluated in double. Only HG has tables today.
+struct LtsdPhase {
+    std::string type = "hg";  // project-format phase type
+    double g = 0.0;           // HG asymmetry, in (-1, 1)
+
+    // p(mu) per sr, project convention (mu = 1: forward scattering).
+    double eval(double mu) const;
+};
+
+// Henyey-Greenstein's integral over the upper hemisphere of the LTSD frame (omega_o = +z, mu = -z), i.e. over
+// mu in [-1, 0]: a_u(g) = (1 - g) / (sqrt(1 + g^2) (1 + g + sqrt(1 + g^2))), exact and stable for every g in [-1, 1].
+// a_l(g) = a_u(-g), and a_u + a_l = 1.
+double hgUpperAmplitude(double g);
+
+struct LtsdTable {
+    static constexpr std::uint32_t kVersion = 1;
+
+    std::string phase = "hg";  // what the table fits (a project-format phase type)
+    int entriesPerHalf = 0;    // n: entries [0, n) are T_1 over g in [-gMax, 0], [n, 2n) are T_2 over [0, gMax]
+    float gMax = 0.0f;         // |g| beyond gMax is clamped to gMax
+    std::vector<shader::LtsdEntry> entries;  // 2n
+    nlohmann::json provenance;                // from the sidecar (null when it is missing)
+    std::string path;                         // the file it was loaded from
+
+    // The table coordinate of entry i.
+    double entryG(int i) const;
+
+    // Eq. 24: M_u with a_u, and the T of M_l = diag(1, 1, -1) T with a_l, interpolated.
+    shader::LtsdEntry upper(double g) const;
+    shader::LtsdEntry lower(double g) const;
+
+    // Eq. 21: the LTSD approximation of the phase function's integral over the polygon (frame: omega_o = +z).
+    double integral(const shader::SphericalPolygon& polygon, double g) const;
+
+    // The fitted density per sr in direction w (unit, frame omega_o = +z): a_u D_u or a_l D_l by hemisphere.
+    double density(const glm::dvec3& w, double g) const;
+};
+
+// Reads a table; every problem (missing, truncated, another version, bad checksum, non-finite or singular matrices,
+// amplitudes outside [0, 1]) is an InputError naming the file. The sidecar `<file>.json` holds the provenance.
+LtsdTable loadLtsdTable(const std::filesystem::path& file);
+
+// Writes the table and its sidecar (provenance as given, plus the payload checksum), each atomically.
+void saveLtsdTable(const LtsdTable& table, const std::filesystem::path& file);
+
+// The checksum stored in a table file: FNV-1a (64 bit) of the whole file with the checksum field zeroed.
+std::uint64_t ltsdTableChecksum(const std::vector<std::uint8_t>& fileBytes);
+
+// Where tables are found: `overrideDir` if not empty, else $TYNDALL_TABLES_DIR, else <executable>/../share/tyndall/
+// tables (the installed layout), else the source tree's tables/ (a build-tree run).
+std::filesystem::path ltsdTablesDirectory(const std::string& overrideDir = "");
+
+// The table file for a phase type, e.g. "hg" -> <dir>/hg.ltsd.
+std::filesystem::path ltsdTablePath(const std::string& phaseType, const std::string& overrideDir = "");
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Plot data for the studio and the CLI
+
+// The phase function against its fit in the plane y = 0 through omega_o (the LTSD paper's Fig. 12): direction
+// w = (sin psi, 0, cos psi) for psi over [0, 2 pi), so psi = 0 is omega_o and psi = pi the forward direction.
+struct LtsdPolarPoint {
+    double psi;     // radians
+    double phase;   // p(mu) per sr, mu = -cos psi
+    double fitted;  // the LTSD's density per sr (discontinuous at the horizon, psi = pi / 2 and 3 pi / 2)
+};
+std::vector<LtsdPolarPoint> ltsdPolarCurve(const LtsdTable& table, double g, int points);
+
+// How well each hemisphere is fitted at g: the total-variation distance int |D_fit - D| over the hemisphere between
+// the normalised fitted and target distributions (in [0, 2]); any region's integral of the phase function is then off
+// by at most (a_u tv_u + a_l tv_l) / 2.
+struct LtsdFitError {
+    double g;
+    double tvUpper;
+    double tvLower;
+    double bound;  // (a_u tv_u + a_l tv_l) / 2
+};
+std::vector<LtsdFitError> ltsdFitErrorCurve(const LtsdTable& table, int points);
+
+// The total-variation distance between HG's hemisphere at g (upper: mu in [-1, 0]) and an entry's fitted distribution
+// of the same hemisphere, for entries of the form M = diag(m, m, 1) (what the fitter produces). Deterministic
+// quadrature in x = ln tan(theta), where the fit is a shift of the source: see docs/tables.md.
+double ltsdTotalVariation(double g, int source, double m);
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Reference integrals
+
+// The integral of f over a spherical polygon (the cone through `vertices`, a simple polygon inside a hemisphere that
+// also holds `centre`, e.g. its normalised mean direction), by adaptive Gauss-Kronrod (7/15) quadrature, nested in two dimensions over
+// the fan of planar triangles (centre, v_i, v_i+1) projected onto the sphere; to about `tolerance` absolute or
+// `relativeTolerance` relative. Independent of the edge integrals of shared/ltsd.h, which the tests check against it.
+double integrateOverSphericalPolygon(const std::vector<glm::dvec3>& vertices, const glm::dvec3& centre,
+                                     const std::function<double(const glm::dvec3&)>& f, double tolerance = 1e-10,
+                                     double relativeTolerance = 1e-8);
+
+}  // namespace tyndall

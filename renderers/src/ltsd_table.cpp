@@ -1,0 +1,353 @@
+#include "tyndall/ltsd_table.h"
+
+#include "tyndall/error.h"
+
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <system_error>
+
+namespace tyndall {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr char kMagic[8] = {'T', 'Y', 'L', 'T', 'S', 'D', '\r', '\n'};
+constexpr std::size_t kHeaderBytes = 64;
+constexpr std::size_t kChecksumOffset = 48;
+constexpr std::size_t kEntryBytes = sizeof(shader::LtsdEntry);
+static_assert(kEntryBytes == 48, "LtsdEntry must match its std430 layout (docs/tables.md)");
+
+// Little-endian fields; this machine and every target Tyndall builds for are little-endian.
+template <typename T>
+void put(std::vector<std::uint8_t>& bytes, std::size_t offset, T value) {
+    std::memcpy(bytes.data() + offset, &value, sizeof(T));
+}
+template <typename T>
+T get(const std::vector<std::uint8_t>& bytes, std::size_t offset) {
+    T value;
+    std::memcpy(&value, bytes.data() + offset, sizeof(T));
+    return value;
+}
+
+void writeAtomically(const std::filesystem::path& file, const void* data, std::size_t size) {
+    const std::filesystem::path tmp = file.string() + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw InputError(InputLocation{file.string(), 0, 0, ""}, "cannot write the file");
+        out.write(static_cast<const char*>(data), std::streamsize(size));
+        if (!out) throw InputError(InputLocation{file.string(), 0, 0, ""}, "cannot write the file");
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, file, ec);
+    if (ec) throw InputError(InputLocation{file.string(), 0, 0, ""}, "cannot write the file: " + ec.message());
+}
+
+std::string hex64(std::uint64_t v) {
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(v));
+    return text;
+}
+
+// 8-point Gauss-Legendre nodes and weights on [-1, 1].
+constexpr std::array<double, 4> kGaussNodes = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                               0.9602898564975363};
+constexpr std::array<double, 4> kGaussWeights = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+                                                 0.1012285362903763};
+
+// The densities in x = ln tan(theta) over the upper hemisphere (docs/tables.md): each integrates to 1 over the real
+// line. With t = e^x: sin^2 = t^2 / (1 + t^2), cos = 1 / sqrt(1 + t^2).
+double sourceDensityX(int source, double x) {
+    const double t2 = std::exp(2.0 * x);
+    const double s2 = t2 / (1.0 + t2);
+    const double c = 1.0 / std::sqrt(1.0 + t2);
+    return source == shader::kLtsdSourceClampedCosine ? 2.0 * s2 * c * c : 2.0 * s2 * c * (1.0 - c);
+}
+
+double hgUpperDensityX(double g, double x) {
+    const double t2 = std::exp(2.0 * x);
+    const double s2 = t2 / (1.0 + t2);
+    const double c = 1.0 / std::sqrt(1.0 + t2);
+    return 2.0 * kPi * s2 * c * LtsdPhase{"hg", g}.eval(-c) / hgUpperAmplitude(g);
+}
+
+}  // namespace
+
+double LtsdPhase::eval(double mu) const {
+    const double d = 1.0 + g * g - 2.0 * g * mu;
+    return (1.0 - g * g) / (4.0 * kPi * d * std::sqrt(d));
+}
+
+double hgUpperAmplitude(double g) {
+    const double r = std::sqrt(1.0 + g * g);
+    return (1.0 - g) / (r * (1.0 + g + r));
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Fetch and evaluation
+
+double LtsdTable::entryG(int i) const {
+    const int n = entriesPerHalf;
+    if (i < n) return -double(gMax) + double(gMax) * double(i) / double(n - 1);
+    return double(gMax) * double(i - n) / double(n - 1);
+}
+
+shader::LtsdEntry LtsdTable::upper(double g) const {
+    const shader::LtsdFetch f = shader::ltsdFetchUpper(float(g), entriesPerHalf, gMax);
+    return shader::ltsdLerp(entries[size_t(f.i0)], entries[size_t(f.i1)], f.w);
+}
+
+shader::LtsdEntry LtsdTable::lower(double g) const {
+    const shader::LtsdFetch f = shader::ltsdFetchLower(float(g), entriesPerHalf, gMax);
+    return shader::ltsdLerp(entries[size_t(f.i0)], entries[size_t(f.i1)], f.w);
+}
+
+double LtsdTable::integral(const shader::SphericalPolygon& polygon, double g) const {
+    return double(shader::ltsdS(polygon, upper(g), lower(g)));
+}
+
+double LtsdTable::density(const glm::dvec3& w, double g) const {
+    if (w.z >= 0.0) {
+        const shader::LtsdEntry e = upper(g);
+        return double(e.amplitude) * double(shader::ltsdEval(e, glm::vec3(w)));
+    }
+    const shader::LtsdEntry e = lower(g);
+    return double(e.amplitude) * double(shader::ltsdEval(e, glm::vec3(float(w.x), float(w.y), float(-w.z))));
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// File format (docs/tables.md)
+
+std::uint64_t ltsdTableChecksum(const std::vector<std::uint8_t>& fileBytes) {
+    std::uint64_t hash = 0xcbf29ce484222325ull;
+    for (std::size_t i = 0; i < fileBytes.size(); ++i) {
+        const bool inChecksum = i >= kChecksumOffset && i < kChecksumOffset + 8;
+        hash ^= inChecksum ? 0u : fileBytes[i];
+        hash *= 0x100000001b3ull;
+    }
+    return hash;
+}
+
+void saveLtsdTable(const LtsdTable& table, const std::filesystem::path& file) {
+    TY_CHECK(table.entriesPerHalf >= 2 && table.entries.size() == size_t(2 * table.entriesPerHalf),
+             "an LTSD table needs 2n entries, n >= 2");
+    TY_CHECK(table.phase.size() < 16, "phase type too long for the header");
+    std::vector<std::uint8_t> bytes(kHeaderBytes + kEntryBytes * table.entries.size(), 0);
+    std::memcpy(bytes.data(), kMagic, sizeof kMagic);
+    put<std::uint32_t>(bytes, 8, LtsdTable::kVersion);
+    put<std::uint32_t>(bytes, 12, std::uint32_t(table.entriesPerHalf));
+    put<std::uint32_t>(bytes, 16, std::uint32_t(kEntryBytes));
+    put<float>(bytes, 20, table.gMax);
+    std::memcpy(bytes.data() + 24, table.phase.data(), table.phase.size());
+    put<std::uint64_t>(bytes, 40, std::uint64_t(kEntryBytes * table.entries.size()));
+    std::memcpy(bytes.data() + kHeaderBytes, table.entries.data(), kEntryBytes * table.entries.size());
+    const std::uint64_t checksum = ltsdTableChecksum(bytes);
+    put<std::uint64_t>(bytes, kChecksumOffset, checksum);
+    writeAtomically(file, bytes.data(), bytes.size());
+
+    nlohmann::json sidecar = table.provenance.is_object() ? table.provenance : nlohmann::json::object();
+    sidecar["table"] = file.filename().string();
+    sidecar["checksum"] = hex64(checksum);
+    const std::string text = sidecar.dump(2) + "\n";
+    writeAtomically(file.string() + ".json", text.data(), text.size());
+}
+
+LtsdTable loadLtsdTable(const std::filesystem::path& file) {
+    const auto fail = [&](const std::string& field, const std::string& message) {
+        return InputError(InputLocation{file.string(), 0, 0, field}, message);
+    };
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw fail("", "cannot open the LTSD table (set TYNDALL_TABLES_DIR or --tables to the folder holding it)");
+    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (bytes.size() < kHeaderBytes || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+        throw fail("header", "not an LTSD table (no TYLTSD magic, or shorter than its 64-byte header)");
+    const auto version = get<std::uint32_t>(bytes, 8);
+    if (version != LtsdTable::kVersion)
+        throw fail("header.version", "version " + std::to_string(version) + "; this Tyndall reads version " +
+                                         std::to_string(LtsdTable::kVersion) + " (re-fit with tyndall-fit-tables)");
+    const auto n = get<std::uint32_t>(bytes, 12);
+    const auto entryBytes = get<std::uint32_t>(bytes, 16);
+    const auto payloadBytes = get<std::uint64_t>(bytes, 40);
+    if (entryBytes != kEntryBytes) throw fail("header.entryBytes", "must be 48, got " + std::to_string(entryBytes));
+    if (n < 2 || n > 65536) throw fail("header.entriesPerHalf", "must be in [2, 65536], got " + std::to_string(n));
+    if (payloadBytes != std::uint64_t(2) * n * kEntryBytes || bytes.size() != kHeaderBytes + payloadBytes)
+        throw fail("payload", "truncated or padded: " + std::to_string(bytes.size()) + " bytes, the header implies " +
+                                  std::to_string(kHeaderBytes + std::uint64_t(2) * n * kEntryBytes));
+    const auto stored = get<std::uint64_t>(bytes, kChecksumOffset);
+    if (stored != ltsdTableChecksum(bytes))
+        throw fail("header.checksum", "checksum mismatch: the file is corrupt (stored " + hex64(stored) +
+                                          ", computed " + hex64(ltsdTableChecksum(bytes)) + ")");
+
+    LtsdTable table;
+    table.path = file.string();
+    table.entriesPerHalf = int(n);
+    table.gMax = get<float>(bytes, 20);
+    char phase[17] = {};
+    std::memcpy(phase, bytes.data() + 24, 16);
+    table.phase = phase;
+    if (!(table.gMax > 0.0f && table.gMax <= 1.0f))
+        throw fail("header.gMax", "must be in (0, 1], got " + std::to_string(table.gMax));
+    table.entries.resize(size_t(2) * n);
+    std::memcpy(table.entries.data(), bytes.data() + kHeaderBytes, payloadBytes);
+    for (size_t i = 0; i < table.entries.size(); ++i) {
+        const shader::LtsdEntry& e = table.entries[i];
+        const std::string field = "entries[" + std::to_string(i) + "]";
+        for (float v : e.m)
+            if (!std::isfinite(v)) throw fail(field + ".m", "a matrix element is not finite");
+        const glm::mat3 m = shader::ltsdMatrix(e);
+        const double det = double(glm::determinant(m));
+        const double scale = double(glm::length(m[0]) * glm::length(m[1]) * glm::length(m[2]));
+        if (!(det > 1e-9 * scale) || !(scale > 0.0))
+            throw fail(field + ".m", "the matrix is singular or flips orientation (det " + std::to_string(det) + ")");
+        if (!(e.amplitude >= 0.0f && e.amplitude <= 1.0f))
+            throw fail(field + ".amplitude", "must be in [0, 1], got " + std::to_string(e.amplitude));
+        const int expectedSource = i < n ? shader::kLtsdSourceClampedCosine : shader::kLtsdSourceInverseClampedCosine;
+        if (e.source != expectedSource)
+            throw fail(field + ".source", "must be " + std::to_string(expectedSource) + " in this half of the table");
+    }
+
+    const std::filesystem::path sidecar = file.string() + ".json";
+    std::ifstream side(sidecar);
+    if (side) {
+        try {
+            table.provenance = nlohmann::json::parse(side);
+        } catch (const nlohmann::json::exception& e) {
+            throw InputError(InputLocation{sidecar.string(), 0, 0, ""}, std::string("not valid JSON: ") + e.what());
+        }
+    }
+    return table;
+}
+
+std::filesystem::path ltsdTablesDirectory(const std::string& overrideDir) {
+    if (!overrideDir.empty()) return overrideDir;
+    if (const char* env = std::getenv("TYNDALL_TABLES_DIR"); env && *env) return env;
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "tyndall" / "tables";
+        if (std::filesystem::is_directory(installed, ec)) return installed;
+    }
+    return TYNDALL_TABLES_SOURCE_DIR;
+}
+
+std::filesystem::path ltsdTablePath(const std::string& phaseType, const std::string& overrideDir) {
+    return ltsdTablesDirectory(overrideDir) / (phaseType + ".ltsd");
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Plot data
+
+std::vector<LtsdPolarPoint> ltsdPolarCurve(const LtsdTable& table, double g, int points) {
+    std::vector<LtsdPolarPoint> curve;
+    curve.reserve(size_t(points));
+    const LtsdPhase phase{table.phase, g};
+    for (int i = 0; i < points; ++i) {
+        const double psi = 2.0 * kPi * (double(i) + 0.5) / double(points);
+        const glm::dvec3 w(std::sin(psi), 0.0, std::cos(psi));
+        curve.push_back({psi, phase.eval(-w.z), table.density(w, g)});
+    }
+    return curve;
+}
+
+double ltsdTotalVariation(double g, int source, double m) {
+    // x over [-30, 30] holds all but ~1e-13 of every density here; 600 panels of 8-point Gauss-Legendre.
+    const double x0 = -30.0, x1 = 30.0;
+    const int panels = 600;
+    const double h = (x1 - x0) / panels, shift = std::log(m);
+    double sum = 0.0;
+    for (int p = 0; p < panels; ++p) {
+        const double mid = x0 + (double(p) + 0.5) * h;
+        for (int k = 0; k < 4; ++k) {
+            for (double sgn : {-1.0, 1.0}) {
+                const double x = mid + sgn * 0.5 * h * kGaussNodes[size_t(k)];
+                const double diff = sourceDensityX(source, x - shift) - hgUpperDensityX(g, x);
+                sum += 0.5 * h * kGaussWeights[size_t(k)] * std::abs(diff);
+            }
+        }
+    }
+    return sum;
+}
+
+std::vector<LtsdFitError> ltsdFitErrorCurve(const LtsdTable& table, int points) {
+    std::vector<LtsdFitError> curve;
+    for (int i = 0; i < points; ++i) {
+        const double g = -double(table.gMax) + 2.0 * double(table.gMax) * double(i) / double(points - 1);
+        const shader::LtsdEntry u = table.upper(g), l = table.lower(g);
+        LtsdFitError e;
+        e.g = g;
+        e.tvUpper = ltsdTotalVariation(g, u.source, double(u.m[0]) / double(u.m[8]));
+        e.tvLower = ltsdTotalVariation(-g, l.source, double(l.m[0]) / double(l.m[8]));
+        e.bound = 0.5 * (double(u.amplitude) * e.tvUpper + double(l.amplitude) * e.tvLower);
+        curve.push_back(e);
+    }
+    return curve;
+}
+
+}  // namespace tyndall
+
+namespace tyndall {
+
+namespace {
+
+// Gauss-Kronrod 7/15 on [-1, 1]: Kronrod nodes (positive half, the last is 0) and weights, and the Gauss weights of
+// the nodes with odd index.
+constexpr std::array<double, 8> kKronrodNodes = {0.991455371120812639, 0.949107912342758525, 0.864864423359769073,
+                                                 0.741531185599394440, 0.586087235467691130, 0.405845151377397167,
+                                                 0.207784955007898468, 0.0};
+constexpr std::array<double, 8> kKronrodWeights = {0.022935322010529225, 0.063092092629978553, 0.104790010322250184,
+                                                   0.140653259715525919, 0.169004726639267903, 0.190350578064785410,
+                                                   0.204432940075298892, 0.209482141084727828};
+constexpr std::array<double, 4> kGauss7Weights = {0.129484966168869693, 0.279705391489276668, 0.381830050505118945,
+                                                  0.417959183673469388};
+
+template <typename F>
+double kronrod(const F& f, double a, double b, double tolerance, double relativeTolerance, int depth) {
+    const double centre = 0.5 * (a + b), half = 0.5 * (b - a);
+    double kronrodSum = kKronrodWeights[7] * f(centre), gaussSum = kGauss7Weights[3] * f(centre);
+    for (size_t i = 0; i < 7; ++i) {
+        const double dx = half * kKronrodNodes[i];
+        const double pair = f(centre - dx) + f(centre + dx);
+        kronrodSum += kKronrodWeights[i] * pair;
+        if (i % 2 == 1) gaussSum += kGauss7Weights[i / 2] * pair;
+    }
+    kronrodSum *= half;
+    gaussSum *= half;
+    const double error = std::abs(kronrodSum - gaussSum);
+    if (depth >= 24 || error <= std::max(tolerance, relativeTolerance * std::abs(kronrodSum))) return kronrodSum;
+    return kronrod(f, a, centre, 0.5 * tolerance, relativeTolerance, depth + 1) +
+           kronrod(f, centre, b, 0.5 * tolerance, relativeTolerance, depth + 1);
+}
+
+}  // namespace
+
+double integrateOverSphericalPolygon(const std::vector<glm::dvec3>& vertices, const glm::dvec3& centre,
+                                     const std::function<double(const glm::dvec3&)>& f, double tolerance,
+                                     double relativeTolerance) {
+    // On the planar triangle q(s, v) = c + s (a - c) + (1 - s) v (b - c), s, v in [0, 1], the solid angle element is
+    // ((a - c) x (b - c)) . c (1 - s) / |q|^3 ds dv (the central projection of a planar area element), signed by the
+    // triangle's orientation, so that the fan is exact for any centre inside the polygon's hemisphere.
+    const glm::dvec3 c = glm::normalize(centre);
+    double sum = 0.0;
+    const double edges = double(vertices.size());
+    for (size_t i = 0; i < vertices.size(); ++i) {
+        const glm::dvec3 a = glm::normalize(vertices[i]);
+        const glm::dvec3 b = glm::normalize(vertices[(i + 1) % vertices.size()]);
+        const double k = glm::dot(glm::cross(a - c, b - c), c);  // signed: a centre outside still sums correctly
+        if (k == 0.0) continue;
+        const auto inner = [&](double s) {
+            const auto integrand = [&](double v) {
+                const glm::dvec3 q = c + s * (a - c) + (1.0 - s) * v * (b - c);
+                const double l = glm::length(q);
+                return f(q / l) * k * (1.0 - s) / (l * l * l);
+            };
+            return kronrod(integrand, 0.0, 1.0, tolerance / edges, relativeTolerance, 0);
+        };
+        sum += kronrod(inner, 0.0, 1.0, tolerance / edges, relativeTolerance, 0);
+    }
+    return std::abs(sum);
+}
+
+}  // namespace tyndall

@@ -1,0 +1,249 @@
+// Linearly transformed spherical distributions (LTSDs) over spherical polygons, shared by GLSL and C++: the exact
+// clamped-cosine polygon integral with horizon clipping, the inverse clamped cosine (Eq. 20 of the LTSD paper (000)),
+// S(z, A(z)) of Eq. 21 with the horizon split, and the table fetch of Eq. 24. Derivations: docs/tables.md.
+//
+// Frame: omega_o (the direction towards the viewer, opposite to the camera ray's direction d) is +z. A phase function
+// with the project's convention mu = dot(d, omega_i) is therefore evaluated at mu = -omega_i.z: forward scattering
+// (g > 0) peaks at -z, in the lower hemisphere, as Eq. 19 of 000 assumes.
+//
+// A polygon is the cone through its vertices (directions, any length > 0); it must lie inside an open hemisphere, as a
+// planar light that does not contain the point does. Vertex order does not matter: every integral here is oriented by
+// the sign of the polygon's own solid angle.
+#ifndef TY_SHARED_LTSD_H
+#define TY_SHARED_LTSD_H
+
+#include "compat.h"
+#include "constants.h"
+
+TY_BEGIN
+
+// Room for an input polygon of up to kLtsdMaxVertices - 1 vertices plus the one that a horizon clip can add to a
+// convex polygon.
+TY_CONST int kLtsdMaxVertices = 10;
+
+TY_CONST int kLtsdSourceClampedCosine = 0;         // D_o = max(z, 0) / pi
+TY_CONST int kLtsdSourceInverseClampedCosine = 1;  // D_o = (1 - z) / pi for z > 0, else 0
+
+struct SphericalPolygon {
+    vec3 v[kLtsdMaxVertices];
+    int count;
+};
+
+// One fitted table entry: the LTSD of one hemisphere of a phase function (std430-compatible, 48 bytes).
+struct LtsdEntry {
+    float m[9];       // M, column-major (m[3 * column + row]); the distribution is D_o transformed by M
+    float amplitude;  // the phase function's integral over the hemisphere the entry fits, in [0, 1]
+    int source;       // kLtsdSource*
+    float g;          // the table coordinate the entry was fitted at (informative; not used by the fetch)
+};
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Polygons
+
+// The part of `p` with side * z >= 0 (side = +1: upper hemisphere, -1: lower). Clipping the cone with the plane z = 0
+// clips each face's chord, and the chord's crossing point is a direction on the face's great arc.
+TY_FUNC SphericalPolygon ltsdClipHemisphere(TY_IN(SphericalPolygon) p, float side) {
+    SphericalPolygon result;
+    result.count = 0;
+    for (int i = 0; i < kLtsdMaxVertices; ++i) result.v[i] = vec3(0.0f);
+    for (int i = 0; i < p.count; ++i) {
+        vec3 a = p.v[i];
+        vec3 b = p.v[i + 1 == p.count ? 0 : i + 1];
+        float da = side * a.z;
+        float db = side * b.z;
+        if (da >= 0.0f && result.count < kLtsdMaxVertices) {
+            result.v[result.count] = a;
+            result.count += 1;
+        }
+        if (((da > 0.0f && db < 0.0f) || (da < 0.0f && db > 0.0f)) && result.count < kLtsdMaxVertices) {
+            vec3 c = mix(a, b, da / (da - db));
+            result.v[result.count] = vec3(c.x, c.y, 0.0f);
+            result.count += 1;
+        }
+    }
+    if (result.count < 3) result.count = 0;
+    return result;
+}
+
+TY_FUNC SphericalPolygon ltsdMirrorZ(TY_IN(SphericalPolygon) p) {
+    SphericalPolygon result = p;
+    for (int i = 0; i < p.count; ++i) result.v[i].z = -p.v[i].z;
+    return result;
+}
+
+TY_FUNC SphericalPolygon ltsdTransform(TY_IN(mat3) m, TY_IN(SphericalPolygon) p) {
+    SphericalPolygon result = p;
+    for (int i = 0; i < p.count; ++i) result.v[i] = m * p.v[i];
+    return result;
+}
+
+// Signed solid angle: a fan of Van Oosterom-Strackee triangles, tan(Omega / 2) = a.(b x c) / (1 + a.b + b.c + c.a).
+// Positive when the vertices turn counter-clockwise seen from outside the sphere.
+TY_FUNC float ltsdSignedSolidAngle(TY_IN(SphericalPolygon) p) {
+    if (p.count < 3) return 0.0f;
+    vec3 a = normalize(p.v[0]);
+    float sum = 0.0f;
+    for (int i = 1; i + 1 < p.count; ++i) {
+        vec3 b = normalize(p.v[i]);
+        vec3 c = normalize(p.v[i + 1]);
+        float numerator = dot(a, cross(b, c));
+        float denominator = 1.0f + dot(a, b) + dot(b, c) + dot(c, a);
+        sum += 2.0f * atan(numerator, denominator);
+    }
+    return sum;
+}
+
+// (1 / 2 pi) sum over edges of theta_i n_i.z, the edge integral of Lambert's formula: the integral of z / pi over the
+// polygon, with the sign of ltsdSignedSolidAngle. The angle comes from atan(|c|, d), accurate for short edges too.
+TY_FUNC float ltsdSignedCosineSum(TY_IN(SphericalPolygon) p) {
+    float sum = 0.0f;
+    for (int i = 0; i < p.count; ++i) {
+        vec3 a = normalize(p.v[i]);
+        vec3 b = normalize(p.v[i + 1 == p.count ? 0 : i + 1]);
+        vec3 c = cross(a, b);
+        float s = length(c);
+        if (s > 0.0f) sum += atan(s, dot(a, b)) * c.z / s;
+    }
+    return sum * (0.5f * kInvPi);
+}
+
+// The polygon's solid angle in sr, in [0, 2 pi] for a polygon inside a hemisphere.
+TY_FUNC float ltsdSolidAngle(TY_IN(SphericalPolygon) p) {
+    return abs(ltsdSignedSolidAngle(p));
+}
+
+// E(P): the integral of the clamped cosine max(z, 0) / pi over P, in [0, 1] (the normalised cosine irradiance of Eq. 8
+// of 000): the edge integral over the part of P above the horizon.
+TY_FUNC float ltsdClampedCosineIntegral(TY_IN(SphericalPolygon) p) {
+    float orientation = ltsdSignedSolidAngle(p) < 0.0f ? -1.0f : 1.0f;
+    SphericalPolygon upper = ltsdClipHemisphere(p, 1.0f);
+    return max(0.0f, orientation * ltsdSignedCosineSum(upper));
+}
+
+// The integral over P of the inverse clamped cosine on the upper hemisphere, (1 - z) / pi for z > 0 (normalised: it
+// integrates to 1 over the hemisphere): Omega(P+) / pi - E(P), Eq. 20 of 000 with the normalisation (docs/tables.md).
+TY_FUNC float ltsdInverseClampedCosineIntegral(TY_IN(SphericalPolygon) p) {
+    float orientation = ltsdSignedSolidAngle(p) < 0.0f ? -1.0f : 1.0f;
+    SphericalPolygon upper = ltsdClipHemisphere(p, 1.0f);
+    float solidAngle = orientation * ltsdSignedSolidAngle(upper);
+    float cosine = orientation * ltsdSignedCosineSum(upper);
+    return max(0.0f, solidAngle * kInvPi - cosine);
+}
+
+TY_FUNC float ltsdSourceIntegral(TY_IN(SphericalPolygon) p, int source) {
+    if (source == kLtsdSourceClampedCosine) return ltsdClampedCosineIntegral(p);
+    return ltsdInverseClampedCosineIntegral(p);
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Source distributions: densities (per sr) and samplers
+
+TY_FUNC float ltsdSourceEval(int source, float z) {
+    if (z <= 0.0f) return 0.0f;
+    return source == kLtsdSourceClampedCosine ? z * kInvPi : (1.0f - z) * kInvPi;
+}
+
+// The inverse clamped cosine (1 - z) / pi on the upper hemisphere: P(Z > z) = (1 - z)^2, so z = 1 - sqrt(u)
+// (docs/tables.md).
+TY_FUNC vec3 ltsdSampleInverseClampedCosine(TY_IN(vec2) u) {
+    float z = 1.0f - sqrt(u.x);
+    float r = sqrt(max(0.0f, 1.0f - z * z));
+    float phi = kTwoPi * u.y;
+    return vec3(r * cos(phi), r * sin(phi), z);
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Transformed distributions
+
+TY_FUNC mat3 ltsdMatrix(TY_IN(LtsdEntry) e) {
+    return mat3(vec3(e.m[0], e.m[1], e.m[2]), vec3(e.m[3], e.m[4], e.m[5]), vec3(e.m[6], e.m[7], e.m[8]));
+}
+
+// M^-1 by the adjugate (GLSL's inverse() has no counterpart in the shared subset); det(M) > 0 for every loaded entry.
+TY_FUNC mat3 ltsdInverse(TY_IN(mat3) m) {
+    vec3 r0 = cross(m[1], m[2]);
+    vec3 r1 = cross(m[2], m[0]);
+    vec3 r2 = cross(m[0], m[1]);
+    float invDet = 1.0f / dot(m[0], r0);
+    // The rows of M^-1 are r0, r1, r2 / det; mat3() takes columns, hence the transposed layout.
+    return mat3(vec3(r0.x, r1.x, r2.x), vec3(r0.y, r1.y, r2.y), vec3(r0.z, r1.z, r2.z)) * invDet;
+}
+
+// D(w) = D_o(M^-1 w / |M^-1 w|) |det M^-1| / |M^-1 w|^3 (Eq. 6 of 000) for a unit direction w: the entry's fitted
+// density per sr, without its amplitude.
+TY_FUNC float ltsdEval(TY_IN(LtsdEntry) e, TY_IN(vec3) w) {
+    mat3 mInv = ltsdInverse(ltsdMatrix(e));
+    vec3 wo = mInv * w;
+    float l = length(wo);
+    float detInv = abs(dot(mInv[0], cross(mInv[1], mInv[2])));
+    return ltsdSourceEval(e.source, wo.z / l) * detInv / (l * l * l);
+}
+
+// The integral of the entry's fitted distribution over P: Eq. 7 of 000, the source's integral over M^-1 P.
+TY_FUNC float ltsdPolygonIntegral(TY_IN(LtsdEntry) e, TY_IN(SphericalPolygon) p) {
+    return ltsdSourceIntegral(ltsdTransform(ltsdInverse(ltsdMatrix(e)), p), e.source);
+}
+
+// Eq. 21 of 000 (with Eq. 17-19): S(z, A(z)) = a_u int_{M_u^-1 A^u} D_o^u + a_l int_{M_l^-1 A^l} D_o^l, the LTSD
+// approximation of the phase function's integral over P. `upper` is M_u with a_u, `lower` the table entry T with a_l
+// such that M_l = diag(1, 1, -1) T (Eq. 24): the lower half of P is mirrored to the upper hemisphere and transformed
+// by T^-1, so that M_l^-1 = T^-1 diag(1, 1, -1).
+TY_FUNC float ltsdS(TY_IN(SphericalPolygon) p, TY_IN(LtsdEntry) upper, TY_IN(LtsdEntry) lower) {
+    float sum = 0.0f;
+    SphericalPolygon above = ltsdClipHemisphere(p, 1.0f);
+    if (above.count >= 3 && upper.amplitude > 0.0f) sum += upper.amplitude * ltsdPolygonIntegral(upper, above);
+    SphericalPolygon below = ltsdClipHemisphere(p, -1.0f);
+    if (below.count >= 3 && lower.amplitude > 0.0f)
+        sum += lower.amplitude * ltsdPolygonIntegral(lower, ltsdMirrorZ(below));
+    return sum;
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Table fetch (Eq. 24 of 000)
+//
+// A table of 2n entries for the upper hemisphere of the phase function at g: entries [0, n) are T_1, g uniform over
+// [-gMax, 0] (fitted to the clamped cosine); entries [n, 2n) are T_2, g uniform over [0, gMax] (inverse clamped
+// cosine). g outside [-gMax, gMax] is clamped (docs/tables.md). The caller reads entries i0 and i1 from its buffer and
+// blends them with ltsdLerp.
+
+struct LtsdFetch {
+    int i0;
+    int i1;
+    float w;  // weight of i1
+};
+
+TY_FUNC LtsdFetch ltsdFetchAt(float g, bool firstTableAtZero, int n, float gMax) {
+    float gc = clamp(g, -gMax, gMax);
+    bool first = gc < 0.0f || (gc == 0.0f && firstTableAtZero);
+    float x = (first ? gc + gMax : gc) / gMax * float(n - 1);
+    int i = clamp(int(floor(x)), 0, n - 2);
+    LtsdFetch f;
+    f.i0 = (first ? 0 : n) + i;
+    f.i1 = f.i0 + 1;
+    f.w = clamp(x - float(i), 0.0f, 1.0f);
+    return f;
+}
+
+// M_u: T_1(g) for g < 0, T_2(g) for g >= 0.
+TY_FUNC LtsdFetch ltsdFetchUpper(float g, int n, float gMax) {
+    return ltsdFetchAt(g, false, n, gMax);
+}
+
+// The T of M_l = diag(1, 1, -1) T: T_2(|g|) for g < 0, T_1(-g) for g >= 0. Its amplitude is a_l(g) = a_u(-g).
+TY_FUNC LtsdFetch ltsdFetchLower(float g, int n, float gMax) {
+    return ltsdFetchAt(-g, true, n, gMax);
+}
+
+// Linear interpolation of M and the amplitude; the fitted matrices are aligned (docs/tables.md), so this is well
+// defined. Both entries come from the same half of the table, so they share their source.
+TY_FUNC LtsdEntry ltsdLerp(TY_IN(LtsdEntry) a, TY_IN(LtsdEntry) b, float w) {
+    LtsdEntry e = a;
+    for (int i = 0; i < 9; ++i) e.m[i] = mix(a.m[i], b.m[i], w);
+    e.amplitude = mix(a.amplitude, b.amplitude, w);
+    e.g = mix(a.g, b.g, w);
+    return e;
+}
+
+TY_END
+
+#endif  // TY_SHARED_LTSD_H

@@ -1,0 +1,175 @@
+// tyndall-fit-tables: fits the LTSD tables of Henyey-Greenstein (docs/tables.md) and writes them with their provenance,
+// or with --check re-fits entries and compares them bit for bit with a shipped table.
+#include "fit.h"
+
+#include "tyndall/error.h"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <thread>
+#include <unistd.h>
+
+namespace {
+
+using namespace tyndall;
+
+std::string cpuModel() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown";
+}
+
+std::string hostName() {
+    char name[256] = {};
+    return gethostname(name, sizeof name - 1) == 0 ? name : "unknown";
+}
+
+std::string utcNow() {
+    std::time_t t = std::time(nullptr);
+    char text[32];
+    std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+    return text;
+}
+
+nlohmann::json errorSummary(const LtsdTable& table) {
+    double maxTv = 0.0, sumTv = 0.0;
+    for (int i = 0; i < int(table.entries.size()); ++i) {
+        const shader::LtsdEntry& e = table.entries[size_t(i)];
+        const double tv = ltsdTotalVariation(table.entryG(i), e.source, double(e.m[0]) / double(e.m[8]));
+        maxTv = std::max(maxTv, tv);
+        sumTv += tv;
+    }
+    nlohmann::json curve = nlohmann::json::array();
+    for (const LtsdFitError& e : ltsdFitErrorCurve(table, 21))
+        curve.push_back({{"g", e.g}, {"tvUpper", e.tvUpper}, {"tvLower", e.tvLower}, {"bound", e.bound}});
+    return {{"entryTotalVariationMax", maxTv},
+            {"entryTotalVariationMean", sumTv / double(table.entries.size())},
+            {"note", "total-variation distance per hemisphere (in [0, 2]); 'bound' = (a_u tv_u + a_l tv_l) / 2 bounds "
+                     "the absolute error of S over any region; polygon errors against quadrature: docs/tables.md"},
+            {"againstG", curve}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"tyndall-fit-tables: fit the LTSD tables of Henyey-Greenstein (docs/tables.md)"};
+    tables::FitSettings settings;
+    std::string out, check;
+    bool quick = false;
+    app.add_option("--out,-o", out, "the table to write (its provenance goes to <out>.json)");
+    app.add_option("--loss", settings.loss, "sw (sliced Wasserstein, 002 Sec. 4; the default) or tv (total variation)")
+        ->check(CLI::IsMember({"tv", "sw"}));
+    app.add_option("--entries", settings.entriesPerHalf, "entries per half of the table (T_1, T_2)")
+        ->check(CLI::Range(2, 65536));
+    app.add_option("--gmax", settings.gMax, "the table covers g in [-gmax, gmax]")->check(CLI::Range(0.01, 0.999));
+    app.add_option("--sw-samples", settings.swSamples, "sw: samples per distribution")->check(CLI::Range(16, 1 << 20));
+    app.add_option("--sw-directions", settings.swDirections, "sw: projection directions")->check(CLI::Range(1, 4096));
+    app.add_option("--threads", settings.threads, "threads (0: all)")->check(CLI::Range(0, 1024));
+    app.add_flag("--quick", quick, "fit every 16th entry and both ends of each half only (with --check: a quick test)");
+    app.add_option("--check", check, "re-fit and compare bit for bit with this table instead of writing one");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? 0 : 2;
+    }
+    if (out.empty() && check.empty()) {
+        std::fprintf(stderr, "tyndall-fit-tables: error: give --out FILE or --check FILE\n");
+        return 2;
+    }
+    try {
+        std::vector<int> indices;
+        const int n = settings.entriesPerHalf;
+        if (quick)
+            for (int i = 0; i < 2 * n; ++i)
+                if (i % 16 == 0 || i == n - 1 || i == 2 * n - 1) indices.push_back(i);
+        LtsdTable reference;
+        if (!check.empty()) {
+            reference = loadLtsdTable(check);
+            if (reference.provenance.contains("settings")) {
+                const nlohmann::json& s = reference.provenance["settings"];
+                settings.loss = s.value("loss", settings.loss);
+                settings.entriesPerHalf = s.value("entriesPerHalf", settings.entriesPerHalf);
+                settings.gMax = s.value("gMax", settings.gMax);
+                settings.swSamples = s.value("swSamples", settings.swSamples);
+                settings.swDirections = s.value("swDirections", settings.swDirections);
+            }
+        }
+        const bool terminal = isatty(fileno(stderr));
+        const auto start = std::chrono::steady_clock::now();
+        const auto progress = [&](int done, int total) {
+            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            std::fprintf(stderr, "%sfitting hg (%s): %d / %d entries, %.1f s%s", terminal ? "\r" : "",
+                         settings.loss.c_str(), done, total, seconds, terminal && done < total ? "" : "\n");
+        };
+        const std::vector<shader::LtsdEntry> entries = tables::fitEntries(settings, indices, progress);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+        if (!check.empty()) {
+            if (reference.entriesPerHalf != settings.entriesPerHalf) {
+                std::fprintf(stderr, "tyndall-fit-tables: %s: has %d entries per half, the settings %d\n",
+                             check.c_str(), reference.entriesPerHalf, settings.entriesPerHalf);
+                return 1;
+            }
+            int compared = 0, differing = 0;
+            for (int i = 0; i < 2 * n; ++i) {
+                if (!indices.empty() && std::find(indices.begin(), indices.end(), i) == indices.end()) continue;
+                ++compared;
+                if (std::memcmp(&entries[size_t(i)], &reference.entries[size_t(i)], sizeof(shader::LtsdEntry)) != 0) {
+                    ++differing;
+                    std::fprintf(stderr, "entry %d (g = %.6f): m = %.9g, shipped %.9g\n", i, double(entries[size_t(i)].g),
+                                 double(entries[size_t(i)].m[0]), double(reference.entries[size_t(i)].m[0]));
+                }
+            }
+            std::printf("%d of %d re-fitted entries differ from %s\n", differing, compared, check.c_str());
+            return differing == 0 ? 0 : 1;
+        }
+
+        LtsdTable table;
+        table.phase = "hg";
+        table.entriesPerHalf = n;
+        table.gMax = settings.gMax;
+        table.entries = entries;
+        std::string command;
+        for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
+        table.provenance = {
+            {"format", "docs/tables.md"},
+            {"phase", "hg"},
+            {"command", command},
+            {"seed", 0},
+            {"seedNote", "the fit draws no random numbers (fixed quadrature, fixed quasi-random samples)"},
+            {"settings", tables::settingsToJson(settings)},
+            {"partial", quick},
+            {"fitSeconds", seconds},
+            {"machine",
+             {{"host", hostName()},
+              {"cpu", cpuModel()},
+              {"hardwareThreads", std::thread::hardware_concurrency()},
+              {"threadsUsed", settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())}}},
+            {"date", utcNow()},
+            {"fitter", "tyndall-fit-tables " TYNDALL_VERSION},
+        };
+        if (!quick) table.provenance["errorSummary"] = errorSummary(table);
+        if (quick) {  // a partial table cannot be loaded (zero matrices): fill the gaps by copying, and say so
+            for (int i = 0; i < 2 * n; ++i)
+                if (table.entries[size_t(i)].m[8] == 0.0f) {
+                    int j = i;
+                    while (table.entries[size_t(j)].m[8] == 0.0f) --j;
+                    table.entries[size_t(i)] = table.entries[size_t(j)];
+                }
+        }
+        saveLtsdTable(table, out);
+        std::printf("wrote %s (%d entries, %.1f s)\n", out.c_str(), 2 * n, seconds);
+        return 0;
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "tyndall-fit-tables: error: %s\n", e.what());
+        return 2;
+    }
+}
