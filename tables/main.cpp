@@ -104,7 +104,10 @@ int main(int argc, char** argv) {
         }
         const bool terminal = isatty(fileno(stderr));
         const auto start = std::chrono::steady_clock::now();
+        int lastReported = -1;
         const auto progress = [&](int done, int total) {
+            if (done == lastReported) return;  // a line per finished entry, not per poll, when logged to a file
+            lastReported = done;
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             std::fprintf(stderr, "%sfitting hg (%s): %d / %d entries, %.1f s%s", terminal ? "\r" : "",
                          settings.loss.c_str(), done, total, seconds, terminal && done < total ? "" : "\n");
