@@ -116,6 +116,8 @@ void RenderService::run() {
         out.view = task->view;
         out.reference = task->reference;
         out.generation = task->generation;
+        out.state = task->state;
+        out.targetSpp = task->job->request.spp;
         const auto started = Clock::now();
         trace("%s %d: worker starts", task->reference ? "reference" : "view", task->view);
         auto lastPost = started - std::chrono::hours(1);  // the first progressive image goes out at once
@@ -126,7 +128,10 @@ void RenderService::run() {
             if (Clock::now() - lastPost < std::chrono::milliseconds(200)) return;
             lastPost = Clock::now();
             RenderOutput partial = out;
-            partial.image = std::make_shared<Image>(image);
+            auto copy = std::make_shared<Image>(image);
+            // Progressive images carry the job's metadata too (the view, partHash), as the final one does.
+            for (const auto& [key, value] : task->job->metadata) copy->metadata.emplace(key, value);
+            partial.image = std::move(copy);
             partial.spp = spp;
             partial.seconds = std::chrono::duration<double>(Clock::now() - started).count();
             trace("%s %d: image posted (%d spp)", task->reference ? "reference" : "view", task->view, spp);
