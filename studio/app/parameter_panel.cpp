@@ -11,9 +11,12 @@
 #include <QSlider>
 #include <QSignalBlocker>
 #include <QSpinBox>
+#include <QVBoxLayout>
 #include <QStandardItemModel>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace tyndall::studio {
 
@@ -151,6 +154,66 @@ void ParameterPanel::rebuild() {
         }
     });
     form_->addRow("technique", technique);
+
+    // What the view renders: every light and medium of the scene, those the technique cannot render disabled with
+    // the reason.
+    {
+        const std::unique_ptr<Technique> t = createTechnique(view.technique);
+        std::vector<std::pair<std::string, Support>> elements;
+        const Scene& scene = project.scene;
+        for (const auto& l : scene.pointLights) elements.push_back({l.name, t->supports(l)});
+        for (const auto& l : scene.directionalLights) elements.push_back({l.name, t->supports(l)});
+        for (const auto& l : scene.areaLights) elements.push_back({l.name, t->supports(l)});
+        const std::size_t lightCount = elements.size();
+        for (const auto& m : scene.media) elements.push_back({m.name, t->supports(m)});
+        for (const auto& m : scene.particleMedia) elements.push_back({m.name, t->supports(m)});
+        auto* box = new QWidget;
+        auto* layout = new QVBoxLayout(box);
+        layout->setContentsMargins(0, 0, 0, 0);
+        std::vector<std::pair<QCheckBox*, bool>> checks;  // and whether it is a light
+        for (std::size_t i = 0; i < elements.size(); ++i) {
+            const auto& [name, support] = elements[i];
+            auto* check = new QCheckBox(QString::fromStdString(name) + (i < lightCount ? "  (light)" : "  (medium)"));
+            check->setObjectName("part:" + QString::fromStdString(name));
+            check->setEnabled(support.supported);
+            check->setToolTip(support.supported ? QString("Rendered by this view when checked")
+                                                : "The technique cannot render it: " +
+                                                      QString::fromStdString(support.reason));
+            layout->addWidget(check);
+            checks.push_back({check, i < lightCount});
+        }
+        auto show = [checks](const View& v, const Project& p) {
+            ScenePart part;
+            try {
+                part = resolvePart(p, v);
+            } catch (const std::exception&) {
+            }
+            for (const auto& [check, light] : checks) {
+                const std::vector<std::string>& names = light ? part.lights : part.media;
+                const std::string name = check->objectName().mid(5).toStdString();
+                const QSignalBlocker block(check);
+                check->setChecked(std::find(names.begin(), names.end(), name) != names.end());
+            }
+        };
+        show(view, project);
+        refreshers_.push_back([this, show](const View& v, const ParamSet&) { show(v, session_.project()); });
+        for (const auto& [check, light] : checks)
+            connect(check, &QCheckBox::toggled, this, [this, checks](bool) {
+                if (updating_) return;
+                ScenePart part;
+                for (const auto& [c, isLight] : checks)
+                    if (c->isChecked()) (isLight ? part.lights : part.media).push_back(c->objectName().mid(5).toStdString());
+                QString error;
+                updating_ = true;
+                const bool ok = session_.setViewPart(view_, part, &error);
+                updating_ = false;
+                if (!ok) {
+                    scheduleRebuild();  // back to the project's part
+                    emit techniqueRefused(error);
+                }
+            });
+        form_->addRow("renders", box);
+    }
 
     auto* exposure = new QDoubleSpinBox;
     exposure->setObjectName("exposure");

@@ -211,6 +211,16 @@ bool Session::setTechnique(int view, const std::string& technique, QString* erro
         QString::fromStdString("technique of " + project_.views[std::size_t(view)].name), error);
 }
 
+bool Session::setViewPart(int view, const ScenePart& part, QString* error) {
+    if (view < 0 || view >= int(project_.views.size())) return false;
+    return editViews(
+        [&](nlohmann::json& views) {
+            views[std::size_t(view)]["lights"] = part.lights;
+            views[std::size_t(view)]["media"] = part.media;
+        },
+        QString::fromStdString("lights and media of " + project_.views[std::size_t(view)].name), error);
+}
+
 void Session::editProjectJson(const nlohmann::json& json, const QString& text) {
     projectFromJson(json, path_.toStdString());  // throws before anything changes
     undo_.push(new EditSceneCommand(*this, projectToJson(project_), json, text, -1));

@@ -44,6 +44,8 @@ public:
     bool removeView(int view, QString* error);
     bool renameView(int view, const std::string& name, QString* error);
     bool setTechnique(int view, const std::string& technique, QString* error);
+    // The lights and media the view renders (its technique must support each).
+    bool setViewPart(int view, const ScenePart& part, QString* error);
     // An undoable replacement of the whole project by `json` (crash recovery); it must be a valid project.
     void editProjectJson(const nlohmann::json& json, const QString& text);
     void applyProjectJson(const nlohmann::json& json);

@@ -1038,6 +1038,56 @@ private slots:
         QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
     }
 
+    // The Parameters dock lists every light and medium of the scene for the view: the ones it renders checked, those
+    // its technique cannot render disabled with the reason; toggling one is an undoable edit of the view's part that
+    // renders the view (and its reference) again.
+    void choosesAViewsLightsAndMedia() {
+        QVERIFY(window_->openProject(kDefaultProject, false));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        window_->selectView(1);  // the light shaft: sun and fog
+        const Project& project = window_->session().project();
+        const std::size_t elements = project.scene.pointLights.size() + project.scene.directionalLights.size() +
+                                     project.scene.areaLights.size() + project.scene.media.size() +
+                                     project.scene.particleMedia.size();
+        auto partBoxes = [&] {
+            QList<QCheckBox*> boxes;
+            for (QCheckBox* b : window_->findChildren<QCheckBox*>())
+                if (b->objectName().startsWith("part:")) boxes << b;
+            return boxes;
+        };
+        QList<QCheckBox*> boxes = partBoxes();
+        QCOMPARE(std::size_t(boxes.size()), elements);
+        int disabled = 0;
+        for (QCheckBox* b : boxes) {
+            const bool own = b->objectName() == "part:sun" || b->objectName() == "part:fog";
+            QCOMPARE(b->isChecked(), own);
+            if (!b->isEnabled()) QVERIFY2(b->toolTip().contains("cannot render"), qPrintable(b->toolTip()));
+            disabled += !b->isEnabled();
+        }
+        QVERIFY(disabled > 0);  // WVDS renders the sun and fog only
+
+        window_->selectView(2);  // the area light, path traced: everything can be chosen
+        boxes = partBoxes();
+        QCheckBox* toggle = nullptr;
+        for (QCheckBox* b : boxes)
+            if (b->isEnabled() && !b->isChecked()) toggle = b;
+        QVERIFY(toggle);
+        const quint64 state = window_->frames()[2].state;
+        const std::string name = toggle->objectName().mid(5).toStdString();
+        toggle->setChecked(true);
+        QCoreApplication::processEvents();
+        const ScenePart part = *window_->session().project().views[2].part;
+        QVERIFY(std::find(part.lights.begin(), part.lights.end(), name) != part.lights.end() ||
+                std::find(part.media.begin(), part.media.end(), name) != part.media.end());
+        QVERIFY(window_->frames()[2].state != state);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        window_->session().undoStack()->undo();
+        QCoreApplication::processEvents();
+        QVERIFY(!window_->findChild<QCheckBox*>(toggle->objectName())->isChecked());
+        QCOMPARE(window_->frames()[2].state, state);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+    }
+
     // The phase panel plots the media's phase functions (the selected view's first and bold) over cos theta and in
     // polar form: the curve is the phase function the renderers evaluate, normalised over the sphere, and it follows
     // a scene edit of g.
