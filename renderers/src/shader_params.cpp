@@ -1,6 +1,7 @@
 #include "src/shader_params.h"
 
 #include "tyndall/error.h"
+#include "tyndall/phase_eval.h"
 
 #include <cmath>
 
@@ -74,6 +75,10 @@ shader::PhaseParams toPhaseParams(const PhaseFunction& phase) {
             break;
     }
     return p;
+}
+
+double phaseValue(const PhaseFunction& phase, double mu) {
+    return double(shader::phaseEval(toPhaseParams(phase), float(mu)));
 }
 
 }  // namespace tyndall

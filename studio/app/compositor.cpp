@@ -135,25 +135,41 @@ QString comparandName(const ViewFrame& f) {
 }
 
 QString labelOf(const ViewFrame& f, bool reference) {
-    QString line = f.name + "  -  " + (reference ? comparandName(f) : f.technique);
+    if (!f.error.isEmpty()) return f.name + "  -  " + f.error.left(120);
+    // What changes (rendering, stale, progress) comes first: a narrow tile elides the end of its caption.
+    QString line = f.name, details;
     if (reference) {
-        if (f.reference && !f.snapshot && !f.alternate)
-            line += QString("  %1 spp%2").arg(f.referenceSpp).arg(f.referenceCached ? " (cached)" : "");
-    } else if (f.image) {
-        line += QString("  %1 ms").arg(f.seconds * 1e3, 0, 'f', 0);
-        if (f.spp > 1) line += QString("  %1 spp").arg(f.spp);
+        line += "  -  " + comparandName(f);
+        if (!f.snapshot && !f.alternate) {
+            const QString progress = referenceProgress(f);
+            if (f.reference && referenceStale(f)) line += " (stale)";
+            if (!progress.isEmpty())
+                line += "  " + progress;
+            else if (f.reference)
+                details = QString("  %1 spp%2").arg(f.referenceSpp).arg(f.referenceCached ? " (cached)" : "");
+        }
+    } else {
+        if (f.rendering) line += " (rendering)";
+        line += "  -  " + f.technique;
+        if (f.image) {
+            details = QString("  %1 ms").arg(f.seconds * 1e3, 0, 'f', 0);
+            if (f.spp > 1) details += QString("  %1 spp").arg(f.spp);
+        }
     }
-    if (f.rendering) line += "  (rendering)";
     // A view without its own lights/media renders what its technique supports: say that the scene is not all there.
     const Image* shown = reference ? f.reference.get() : f.image.get();
     if (shown && shown->metadata.count("leftOut")) line += "  (leaves out part of the scene)";
-    if (!f.error.isEmpty()) line = f.name + "  -  " + f.error.left(120);
-    return line;
+    return line + details;
 }
 
 QString metricsLine(const ViewFrame& f) {
-    if (!f.metrics) return {};
-    QString line = "relMSE " + number(f.metrics->relMSE) + "  PSNR " + number(f.metrics->psnr) + " dB";
+    if (!f.metrics) {
+        if (f.snapshot || f.alternate || !f.image) return {};
+        return "metrics waiting for the reference" + (referenceProgress(f).isEmpty() ? QString() : ": " + referenceProgress(f));
+    }
+    const QString progress = referenceProgress(f);
+    QString line = QString(f.metricsStale ? (progress.isEmpty() ? "stale: " : "stale (" + progress + "): ") : "") +
+                   "relMSE " + number(f.metrics->relMSE) + "  PSNR " + number(f.metrics->psnr) + " dB";
     if (f.metrics->referenceNoiseRelMSE) line += "  ref. noise " + number(*f.metrics->referenceNoiseRelMSE);
     if (f.regionMetrics) line += "  | region relMSE " + number(f.regionMetrics->relMSE);
     return line;
@@ -235,6 +251,31 @@ const std::shared_ptr<const Image>& comparand(const ViewFrame& frame) {
     return frame.snapshot ? frame.snapshot : frame.alternate ? frame.alternate : frame.reference;
 }
 
+ComparisonPair comparisonPair(const ViewFrame& frame) {
+    if (frame.snapshot || frame.alternate) return {frame.image, comparand(frame), false};
+    return referencePair(frame);
+}
+
+ComparisonPair referencePair(const ViewFrame& frame) {
+    if (frame.image && frame.reference && frame.imageState == frame.referenceState)
+        return {frame.image, frame.reference, false};
+    return {frame.pairImage, frame.pairReference, bool(frame.pairImage)};
+}
+
+bool referenceStale(const ViewFrame& frame) {
+    return !frame.reference || frame.referenceState != frame.state;
+}
+
+QString referenceProgress(const ViewFrame& frame) {
+    if (!frame.referenceRendering) return {};
+    QString text = frame.referenceState == frame.state && frame.reference
+                       ? QString("%1/%2 spp").arg(frame.referenceSpp).arg(frame.referenceTargetSpp)
+                       : QString("rendering");
+    if (frame.referenceEta >= 0.0 && frame.referenceState == frame.state)
+        text += QString(", ETA %1 s").arg(std::ceil(frame.referenceEta), 0, 'f', 0);
+    return "reference " + text;
+}
+
 QImage toDisplay(const Image& image, double exposure, Tonemap op) {
     QImage out(image.width(), image.height(), QImage::Format_RGBA8888);
     if (op != Tonemap::Srgb) {
@@ -303,15 +344,17 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
     const std::vector<QRect> rects = cells(frames, state, size);
     const double scale = state.diff != DiffMode::Off ? cachedDifferenceScale(frames) : 0.0;
     auto displayFull = [&](const ViewFrame& f, bool reference) -> QImage {
-        const std::shared_ptr<const Image>& against = comparand(f);
-        const std::shared_ptr<const Image>& img = reference ? against : f.image;
-        if (!img) return {};
+        const std::shared_ptr<const Image>& img = reference ? comparand(f) : f.image;
         const double exposure = f.exposure + state.exposureOffset;
         if (state.diff != DiffMode::Off && !reference) {
-            if (!against || against->width() != img->width() || against->height() != img->height()) return {};
-            return cachedDisplay(img, against, 0.0, int(state.diff), scale,
-                                 [&] { return differenceDisplay(*img, *against, state.diff, scale); });
+            // Only between images of one state: the last pair that matched while the reference catches up.
+            const ComparisonPair pair = comparisonPair(f);
+            const std::shared_ptr<const Image>&a = pair.image, &b = pair.against;
+            if (!a || !b || a->width() != b->width() || a->height() != b->height()) return {};
+            return cachedDisplay(a, b, 0.0, int(state.diff), scale,
+                                 [&] { return differenceDisplay(*a, *b, state.diff, scale); });
         }
+        if (!img) return {};
         return cachedDisplay(img, nullptr, exposure, 16 + int(state.tonemap), 0.0,
                              [&] { return toDisplay(*img, exposure, state.tonemap); });
     };
@@ -338,9 +381,21 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
                 p.drawImage(QRect(divider, r.y(), r.right() + 1 - divider, r.height()), scaled,
                             QRect(divider - r.x(), 0, r.right() + 1 - divider, r.height()));
             }
+            // A side without its image says why instead of staying black.
+            auto notReady = [&](bool referenceSide, QRect side) {
+                if (side.width() <= 0) return;
+                p.setPen(QColor(200, 200, 200));
+                const QString what = referenceSide ? (referenceProgress(f).isEmpty() ? comparandName(f) + " not ready"
+                                                                                     : referenceProgress(f))
+                                                   : (f.error.isEmpty() ? QString("rendering...") : "failed");
+                p.drawText(side, Qt::AlignCenter | Qt::TextWordWrap, what);
+            };
+            if (left.isNull()) notReady(state.swapped, QRect(r.x(), r.y(), divider - r.x(), r.height()));
+            if (right.isNull()) notReady(!state.swapped, QRect(divider, r.y(), r.right() + 1 - divider, r.height()));
             p.setPen(QPen(QColor(255, 255, 255), 1));
             p.drawLine(divider, r.y(), divider, r.bottom());
-            const QString other = comparandName(f);
+            QString other = comparandName(f);
+            if (!f.snapshot && !f.alternate && f.reference && referenceStale(f)) other += " (stale)";
             const QString sides = state.swapped ? other + " | " + f.technique : f.technique + " | " + other;
             drawLabel(p, r, f.name + "  -  " + sides, metricsLine(f));
             if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);
@@ -351,7 +406,12 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
         if (img.isNull()) {
             p.setPen(QColor(120, 120, 120));
             p.drawRect(r.adjusted(0, 0, -1, -1));
-            p.drawText(r, Qt::AlignCenter, f.error.isEmpty() ? "rendering..." : "failed");
+            QString waiting = "rendering...";
+            if (reference && !f.snapshot && !f.alternate && !referenceProgress(f).isEmpty())
+                waiting = referenceProgress(f);
+            else if (!reference && state.diff != DiffMode::Off && f.image)
+                waiting = "difference waiting for the reference";
+            p.drawText(r, Qt::AlignCenter, f.error.isEmpty() ? waiting : "failed");
         } else {
             p.drawImage(r, img);
         }

@@ -26,6 +26,16 @@ struct ViewFrame {
     QString technique;                        // display name
     std::shared_ptr<const Image> image;       // the technique's latest image (null: not rendered yet)
     std::shared_ptr<const Image> reference;   // the reference of the view's part (null: not rendered yet)
+    // Staleness: `state` identifies the current state of the view's part of the scene (MainWindow hashes it); the image
+    // and the reference carry the state they render. A comparison against the reference is made only between an image
+    // and a reference of one state: the newest such pair, which is the current one or, after an edit of the part, the
+    // last one that matched (stale) until the new reference arrives.
+    quint64 state = 0, imageState = 0, referenceState = 0;
+    std::shared_ptr<const Image> pairImage, pairReference;
+    bool referenceRendering = false;          // a reference render of the view is queued or running
+    int referenceTargetSpp = 0;               // what that render goes to
+    double referenceEta = -1.0;               // its estimated seconds left (-1: not known yet)
+    bool metricsStale = false;                // `metrics` are of a stale pair
     int spp = 0, referenceSpp = 0;
     bool referenceCached = false;             // the reference came from the disk cache
     double seconds = 0.0;                     // the technique's frame time
@@ -60,6 +70,19 @@ QRectF visiblePart(QSize size, const CompositorState& state);
 // The image a view is compared against: its snapshot when one is chosen, else the view chosen as the reference,
 // else its reference.
 const std::shared_ptr<const Image>& comparand(const ViewFrame& frame);
+
+// The two images the view's comparisons (metrics, difference, convergence, export) are made of. Against the reference:
+// the image and reference of one state (stale when they are not the current ones; both null, "waiting", before the
+// first such pair). Against a snapshot or another view: the image and the user's choice.
+struct ComparisonPair {
+    std::shared_ptr<const Image> image, against;
+    bool stale = false;
+};
+ComparisonPair comparisonPair(const ViewFrame& frame);
+ComparisonPair referencePair(const ViewFrame& frame);  // the same against the reference, whatever the view compares to
+// The reference is not of the view's current state (or missing): what its tile and the wipe say instead of nothing.
+bool referenceStale(const ViewFrame& frame);
+QString referenceProgress(const ViewFrame& frame);  // "24/64 spp, ETA 10 s", or empty when it is done
 
 // Linear RGB to 8-bit display values after 2^exposure through `op`, like the PNGs the CLI writes (within one 8-bit
 // level for sRGB, which takes a table; exactly for the other operators).

@@ -3,15 +3,24 @@
 
 #include "tyndall/geometry.h"
 #include "tyndall/image_io.h"
+#include "tyndall/phase_eval.h"
 #include "tyndall/render.h"
 
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
 #include <QCloseEvent>
+#include <QShowEvent>
 #include <QComboBox>
 #include <QCryptographicHash>
 #include <QDateTime>
+#include <QDesktopServices>
+#include <QDialog>
+#include <QInputDialog>
+#include <QLineEdit>
+#include <QMenu>
+#include <QScrollArea>
+#include <QUrl>
 #include <QThreadPool>
 
 #include <QSettings>
@@ -32,6 +41,7 @@
 #include <QPushButton>
 #include <QVBoxLayout>
 #include <QPointer>
+#include <QProgressDialog>
 #include <QSaveFile>
 #include <QStatusBar>
 #include <QTableWidget>
@@ -42,6 +52,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <atomic>
 #include <cmath>
 
 namespace tyndall::studio {
@@ -70,6 +81,19 @@ std::string partKeyOf(const Project& project, const View& view) {
             if (std::find(names.begin(), names.end(), e.value("name", "")) != names.end()) key[group].push_back(e);
     }
     return key.dump();
+}
+
+// The state of a view's part of the scene, from its part key: images of one state are comparable.
+quint64 stateOfKey(const std::string& partKey) {
+    const QByteArray hash = QCryptographicHash::hash(QByteArray::fromStdString(partKey), QCryptographicHash::Sha1);
+    quint64 state = 0;
+    for (int i = 0; i < 8; ++i)
+        state = (state << 8) | quint8(hash[i]);
+    return state == 0 ? 1 : state;  // 0 means "no image"
+}
+
+QString stateName(quint64 state) {
+    return QString("%1").arg(state, 16, 16, QLatin1Char('0'));
 }
 
 QString displayNameOf(const std::string& technique) {
@@ -104,13 +128,64 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     viewsDock->setObjectName("viewsDock");
     viewList_ = new QListWidget;
     viewList_->setObjectName("viewList");
-    viewsDock->setWidget(viewList_);
+    // Authoring: each an undoable edit of the project.
+    auto* viewsWidget = new QWidget;
+    auto* viewsLayout = new QVBoxLayout(viewsWidget);
+    viewsLayout->setContentsMargins(0, 0, 0, 0);
+    viewsLayout->addWidget(viewList_);
+    auto* viewButtons = new QHBoxLayout;
+    auto* addView = new QPushButton("Add");
+    addView->setObjectName("addView");
+    addView->setToolTip("Add a view with a technique (its default part: the lights and media it supports)");
+    auto* techniques = new QMenu(addView);
+    for (const std::string& name : techniqueNames())
+        techniques->addAction(displayNameOf(name) + "  (" + QString::fromStdString(name) + ")", this, [this, name] {
+            QString error;
+            if (!session_.addView(name, &error)) QMessageBox::warning(this, "Cannot add the view", error);
+        });
+    addView->setMenu(techniques);
+    // A button for an edit of the selected view; a refused edit says why.
+    auto viewEdit = [this](const QString& text, const QString& tip, bool (Session::*edit)(int, QString*)) {
+        auto* button = new QPushButton(text);
+        button->setToolTip(tip);
+        connect(button, &QPushButton::clicked, this, [this, text, edit] {
+            QString error;
+            if (!(session_.*edit)(state_.current, &error) && !error.isEmpty())
+                QMessageBox::warning(this, "Cannot " + text.toLower() + " the view", error);
+        });
+        return button;
+    };
+    QPushButton* duplicateView =
+        viewEdit("Duplicate", "Duplicate the selected view, with its parameters", &Session::duplicateView);
+    auto* renameView = new QPushButton("Rename");
+    renameView->setToolTip("Rename the selected view (also: double-click it)");
+    auto rename = [this] {
+        if (state_.current < 0 || state_.current >= int(frames_.size())) return;
+        bool ok = false;
+        const QString name = QInputDialog::getText(this, "Rename the view", "Name:", QLineEdit::Normal,
+                                                   frames_[std::size_t(state_.current)].name, &ok);
+        QString error;
+        if (ok && !session_.renameView(state_.current, name.toStdString(), &error) && !error.isEmpty())
+            QMessageBox::warning(this, "Cannot rename the view", error);
+    };
+    connect(renameView, &QPushButton::clicked, this, rename);
+    connect(viewList_, &QListWidget::itemDoubleClicked, this, rename);
+    QPushButton* removeView = viewEdit("Remove", "Remove the selected view (undoable)", &Session::removeView);
+    for (QPushButton* b : {addView, duplicateView, renameView, removeView}) viewButtons->addWidget(b);
+    viewsLayout->addLayout(viewButtons);
+    viewsDock->setWidget(viewsWidget);
     addDockWidget(Qt::LeftDockWidgetArea, viewsDock);
 
     auto* paramsDock = new QDockWidget("Parameters", this);
     paramsDock->setObjectName("parametersDock");
     parameters_ = new ParameterPanel(session_);
-    paramsDock->setWidget(parameters_);
+    // In a scroll area: another view's parameters (more or fewer rows) never resize the dock.
+    auto* paramsScroll = new QScrollArea;
+    paramsScroll->setWidgetResizable(true);
+    paramsScroll->setWidget(parameters_);
+    paramsDock->setWidget(paramsScroll);
+    connect(parameters_, &ParameterPanel::techniqueRefused, this,
+            [this](const QString& reason) { statusBar()->showMessage(reason, 10000); });
     addDockWidget(Qt::RightDockWidgetArea, paramsDock);
 
     auto* metricsDock = new QDockWidget("Metrics", this);
@@ -148,7 +223,9 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     auto* buttons = new QHBoxLayout;
     auto* take = new QPushButton("Take");
     auto* compare = new QPushButton("Compare");
+    compare->setObjectName("compareSnapshot");
     compare->setCheckable(true);
+    compareButton_ = compare;
     auto* restore = new QPushButton("Restore");
     take->setToolTip("Keep the current view's image with its parameters (K)");
     compare->setToolTip("Compare the live view against the selected snapshot instead of the reference");
@@ -170,8 +247,12 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     plots_ = new PlotPanel;
     convergence_ = new ConvergencePlot;
     pdf_ = new PdfPlot;
+    phasePolar_ = new PhasePlot(PhasePlot::Kind::Polar);
+    phaseCosine_ = new PhasePlot(PhasePlot::Kind::OverCosine);
     plots_->addPlot(convergence_);
     plots_->addPlot(pdf_);
+    plots_->addPlot(phasePolar_);
+    plots_->addPlot(phaseCosine_);
     plotsDock->setWidget(plots_);
     addDockWidget(Qt::BottomDockWidgetArea, plotsDock);
 
@@ -191,6 +272,7 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         if (row < 0) return;
         state_.current = row;
         parameters_->showView(row);
+        updatePhasePlots();
         recompose();
     });
     connect(&session_, &Session::projectReplaced, this, [this] {
@@ -215,6 +297,25 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     connect(&session_, &Session::modifiedChanged, this, [this](bool) { updateTitle(); });
     connect(&session_, &Session::sceneChanged, this, [this] {
         noteEdit();
+        // Views added, removed, renamed or given another technique (or an undo of that): the views start again,
+        // the current one kept by name (a new view is selected).
+        if (viewsKey() != viewsKey_) {
+            const Project& project = session_.project();
+            const QString current = state_.current < int(frames_.size()) ? frames_[std::size_t(state_.current)].name
+                                                                         : QString();
+            std::set<std::string> before;
+            for (const ViewFrame& f : frames_) before.insert(f.name.toStdString());
+            rebuildViews();
+            renderAll();
+            int select = -1;
+            for (int i = 0; i < int(project.views.size()); ++i) {
+                if (!before.count(project.views[std::size_t(i)].name)) select = i;  // new
+                if (select < 0 && QString::fromStdString(project.views[std::size_t(i)].name) == current) select = i;
+            }
+            selectView(std::max(select, 0));
+            updateTitle();
+            return;
+        }
         // Only views whose part of the scene changed render again, with their references; views whose parameters
         // changed (a whole project replaced: recovery, or its undo) render again alone.
         for (int i = 0; i < int(frames_.size()); ++i) {
@@ -228,11 +329,13 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
             }
             if (key == partKeys_[std::size_t(i)]) continue;
             partKeys_[std::size_t(i)] = key;
+            frames_[std::size_t(i)].state = stateOfKey(key);
             dirtyViews_.insert(i);
             dirtyParts_.insert(i);
         }
         flushDirty();
         if (!dirtyParts_.empty()) debounce_.start();
+        updatePhasePlots();
         recompose();
     });
     connect(renderer_, &RenderService::output, this, &MainWindow::onOutput);
@@ -313,14 +416,63 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     autosave_.setInterval(20000);
     connect(&autosave_, &QTimer::timeout, this, [this] { autosaveNow(); });
     autosave_.start();
+    // Changes discarded on purpose stay unsaved until the next project or edit.
+    connect(session_.undoStack(), &QUndoStack::indexChanged, this, [this] { discarded_ = false; });
+    connect(&session_, &Session::projectReplaced, this, [this] { discarded_ = false; });
     connect(&session_, &Session::modifiedChanged, this, [this](bool modified) {
         // Saved, or undone back to the file: nothing to recover. (Opening a project is neither.)
         if (!modified && !opening_) removeAutosave();
     });
     refreshRecentMenu();
-    statusBar()->showMessage("Ready");  // created now, so that its messages never resize the viewport
+    // Created now, so that its messages never resize the viewport. The permanent label says what renders: "Ready" only
+    // when every reference is done and no comparison is stale.
+    renderStatus_ = new QLabel("Ready");
+    renderStatus_->setObjectName("renderStatus");
+    statusBar()->addPermanentWidget(renderStatus_);
+    // What the display does to every view, which the views' captions do not say (E / Shift+E, Ctrl+wheel).
+    displayStatus_ = new QLabel;
+    displayStatus_->setObjectName("displayStatus");
+    displayStatus_->setToolTip("The display exposure offset (E / Shift+E) is added to every view's own exposure (the "
+                               "Parameters dock's \"view exposure\"); zoom with Ctrl+wheel, Z resets");
+    statusBar()->addPermanentWidget(displayStatus_);
+    updateDisplayStatus();
     resize(1280, 800);
+    // The default layout: Snapshots behind Views and the Inspector behind Metrics (tabs), so that the Scene dock and
+    // the metrics table get the height for their rows; docks wide enough for their captions.
+    tabifyDockWidget(viewsDock, snapshotsDock);
+    viewsDock->raise();
+    tabifyDockWidget(metricsDock, inspectorDock);
+    metricsDock->raise();
+    // The side docks take the whole height; the plots go under the viewport only.
+    setCorner(Qt::BottomLeftCorner, Qt::LeftDockWidgetArea);
+    setCorner(Qt::BottomRightCorner, Qt::RightDockWidgetArea);
+    defaultDockSizes_ = [=, this] {
+        resizeDocks({viewsDock, sceneDock}, {220, 480}, Qt::Vertical);
+        resizeDocks({paramsDock, metricsDock}, {380, 300}, Qt::Vertical);
+        resizeDocks({viewsDock, paramsDock}, {300, 400}, Qt::Horizontal);
+        resizeDocks({plotsDock}, {260}, Qt::Vertical);
+    };
+    // The window's size and its docks as the user left them (saved on close).
+    const QSettings settings;
+    restoreGeometry(settings.value("window/geometry").toByteArray());
+    if (restoreState(settings.value("window/state").toByteArray())) defaultDockSizes_ = nullptr;
     updateTitle();
+}
+
+void MainWindow::showEvent(QShowEvent* event) {
+    QMainWindow::showEvent(event);
+    // The default dock sizes, once the window has its size (resizeDocks before the first layout is not kept).
+    if (defaultDockSizes_) QTimer::singleShot(0, this, [this] {
+        if (!defaultDockSizes_) return;
+        defaultDockSizes_();
+        defaultDockSizes_ = nullptr;
+    });
+}
+
+void MainWindow::saveLayout() const {
+    QSettings settings;
+    settings.setValue("window/geometry", saveGeometry());
+    settings.setValue("window/state", saveState());
 }
 
 MainWindow::~MainWindow() {
@@ -348,16 +500,28 @@ void MainWindow::buildMenus() {
         const QString path = QFileDialog::getSaveFileName(this, "Save project as", session_.path(),
                                                           "Tyndall projects (*.json)");
         QString error;
-        if (!path.isEmpty() && !session_.saveAs(path, &error)) QMessageBox::critical(this, "Cannot save", error);
-        updateTitle();
+        if (!path.isEmpty() && !saveProjectAs(path, &error)) QMessageBox::critical(this, "Cannot save", error);
     });
     saveAs->setShortcut(QKeySequence::SaveAs);
     recentMenu_ = file->addMenu("Open &recent");
     file->addSeparator();
     file->addAction("&Export comparison...", this, [this] {
-        const QString folder = QFileDialog::getExistingDirectory(this, "Export the comparison into");
-        QString error;
-        if (!folder.isEmpty() && !exportComparison(folder, &error)) QMessageBox::critical(this, "Cannot export", error);
+        const QString folder = QFileDialog::getExistingDirectory(this, "Export the comparison into",
+                                                                 QFileInfo(session_.path()).absolutePath());
+        if (!folder.isEmpty()) startExport(folder);
+    });
+    connect(this, &MainWindow::exportFinished, this, [this](bool ok, const QString& message) {
+        if (ok && message.isEmpty()) {
+            statusBar()->showMessage("Exported the comparison", 5000);
+            return;
+        }
+        // Not modal: the studio goes on rendering while the user reads it.
+        auto* box = new QMessageBox(ok ? QMessageBox::Information : QMessageBox::Critical,
+                                    ok ? "Exported, with notes" : "Cannot export", message, QMessageBox::Ok, this);
+        box->setObjectName("exportReport");
+        box->setAttribute(Qt::WA_DeleteOnClose);
+        box->setModal(false);
+        box->show();
     });
     file->addAction("Clear the reference cache", this, [] { QDir(referenceCacheFolder()).removeRecursively(); });
     file->addSeparator();
@@ -368,7 +532,10 @@ void MainWindow::buildMenus() {
     QAction* undo = session_.undoStack()->createUndoAction(this, "&Undo");
     undo->setShortcut(QKeySequence::Undo);
     QAction* redo = session_.undoStack()->createRedoAction(this, "&Redo");
-    redo->setShortcut(QKeySequence::Redo);
+    QList<QKeySequence> redoKeys = QKeySequence::keyBindings(QKeySequence::Redo);
+    for (const QKeySequence& key : {QKeySequence("Ctrl+Shift+Z"), QKeySequence("Ctrl+Y")})
+        if (!redoKeys.contains(key)) redoKeys << key;  // both, on every platform
+    redo->setShortcuts(redoKeys);
     edit->addAction(undo);
     edit->addAction(redo);
 
@@ -382,6 +549,7 @@ void MainWindow::buildMenus() {
         a->setShortcut(QKeySequence(key));
         a->setShortcutContext(Qt::ApplicationShortcut);
         a->setChecked(layout == Layout::Grid);
+        layoutActions_[int(layout)] = a;
         layouts->addAction(a);
         toolbar->addAction(a);
     };
@@ -412,6 +580,114 @@ void MainWindow::buildMenus() {
     cycleTonemap->setShortcut(QKeySequence("M"));
     cycleTonemap->setShortcutContext(Qt::ApplicationShortcut);
     for (QAction* a : {undo, redo, save, open, saveAs}) a->setShortcutContext(Qt::ApplicationShortcut);
+
+    // Every key the viewport knows is an action in a menu: listed there and in the shortcuts overlay, and never
+    // swallowed by the Views list's keyboard search when it has the focus. (Typing in a spin box still types.)
+    auto key = [this](QMenu* menu, const QString& text, const QKeySequence& sequence, std::function<void()> run) {
+        QAction* a = menu->addAction(text, this, std::move(run));
+        a->setShortcut(sequence);
+        a->setShortcutContext(Qt::ApplicationShortcut);
+        return a;
+    };
+    QAction* swap = key(view, "Swap the wipe's sides", QKeySequence("T"), [this] {
+        state_.swapped = !state_.swapped;
+        recompose();
+    });
+    toolbar->addAction(swap);
+    view->addSeparator();
+    key(view, "Display exposure offset +0.5 EV (all views)", QKeySequence("E"),
+        [this] { onKey(Qt::Key_E, Qt::NoModifier, true); });
+    key(view, "Display exposure offset -0.5 EV (all views)", QKeySequence("Shift+E"),
+        [this] { onKey(Qt::Key_E, Qt::ShiftModifier, true); });
+    key(view, "Reset zoom and pan", QKeySequence("Z"), [this] { onKey(Qt::Key_Z, Qt::NoModifier, true); });
+    key(view, "Clear the metrics region", QKeySequence("Esc"), [this] { setRegion(QRect()); })
+        ->setShortcutContext(Qt::WindowShortcut);  // not in dialogs
+    QMenu* views = view->addMenu("&Views");
+    for (int i = 0; i < 9; ++i) {
+        key(views, QString("Show view %1 alone").arg(i + 1), QKeySequence(QString::number(i + 1)),
+            [this, i] { onKey(Qt::Key_1 + i, Qt::NoModifier, true); });
+    }
+    views->addSeparator();
+    for (int i = 0; i < 9; ++i)
+        key(views, QString("Compare every view against view %1 (again: the reference)").arg(i + 1),
+            QKeySequence(QString("Shift+%1").arg(i + 1)),
+            [this, i] { chooseReferenceView(i == referenceView_ ? -1 : i); });
+
+    QMenu* scene = menuBar()->addMenu("&Camera");
+    key(scene, "&Frame the scene", QKeySequence("F"), [this] { frameScene(); });
+    QMenu* snapshots = menuBar()->addMenu("S&napshots");
+    key(snapshots, "&Take a snapshot of the current view", QKeySequence("K"), [this] { takeSnapshot(); });
+
+    QMenu* help = menuBar()->addMenu("&Help");
+    QAction* keys = key(help, "&Keyboard and mouse shortcuts", QKeySequence::HelpContents, [this] { showShortcuts(); });
+    keys->setShortcuts({QKeySequence(Qt::Key_F1), QKeySequence("?")});
+    help->addAction("&Documentation", this, [this] {
+        const QString docs = QStringLiteral(TYNDALL_DOCS_DIR);
+        if (!QDir(docs).exists() || !QDesktopServices::openUrl(QUrl::fromLocalFile(docs)))
+            QMessageBox::information(this, "Documentation",
+                                     "The documentation is in docs/ and README.md of the source tree (" + docs + ").");
+    });
+    help->addAction("&About Tyndall Studio", this, [this] {
+        QMessageBox::about(this, "About Tyndall Studio",
+                           QString("<b>Tyndall Studio</b> %1<br>Volumetric rendering comparison studio.<br>Qt %2")
+                               .arg(QString::fromLatin1(tyndallVersion()), QString::fromLatin1(qVersion())));
+    });
+}
+
+QString MainWindow::shortcutsText() {
+    // The menus' shortcuts, then what only the mouse or a held key does.
+    QString html = "<table cellspacing=4>";
+    std::function<void(QMenu*, const QString&)> walk = [&](QMenu* menu, const QString& path) {
+        for (QAction* a : menu->actions()) {
+            if (a->menu()) {
+                walk(a->menu(), path + " > " + a->menu()->title().remove('&'));
+                continue;
+            }
+            if (a->shortcuts().isEmpty()) continue;
+            QStringList keys;
+            for (const QKeySequence& k : a->shortcuts()) keys << k.toString(QKeySequence::NativeText);
+            html += "<tr><td><b>" + keys.join(", ").toHtmlEscaped() + "</b></td><td>" +
+                    QString(a->text()).remove('&').toHtmlEscaped() + "</td><td><i>" + path.toHtmlEscaped() +
+                    "</i></td></tr>";
+        }
+    };
+    for (QAction* a : menuBar()->actions())
+        if (a->menu()) walk(a->menu(), a->menu()->title().remove('&'));
+    const char* mouse[][2] = {
+        {"Shift (held)", "Show the reference (single layout)"},
+        {"Alt+drag", "Orbit the camera"},
+        {"Wheel", "Dolly the camera"},
+        {"Ctrl+wheel", "Zoom every view"},
+        {"Middle drag", "Pan every view"},
+        {"Right drag", "Draw a region: metrics over it"},
+        {"Drag / double-click", "Move the wipe's divider / centre it"},
+    };
+    for (const auto& m : mouse)
+        html += QString("<tr><td><b>%1</b></td><td>%2</td><td><i>viewport</i></td></tr>").arg(QString::fromUtf8(m[0]), QString::fromUtf8(m[1]));
+    return html + "</table>";
+}
+
+void MainWindow::showShortcuts() {
+    if (!shortcuts_) {
+        shortcuts_ = new QDialog(this);
+        shortcuts_->setObjectName("shortcutsOverlay");
+        shortcuts_->setWindowTitle("Keyboard and mouse shortcuts");
+        auto* layout = new QVBoxLayout(shortcuts_);
+        auto* scroll = new QScrollArea;
+        auto* text = new QLabel;
+        text->setObjectName("shortcutsText");
+        text->setTextFormat(Qt::RichText);
+        scroll->setWidget(text);
+        scroll->setWidgetResizable(true);
+        layout->addWidget(scroll);
+        auto* close = new QPushButton("Close");
+        connect(close, &QPushButton::clicked, shortcuts_, &QDialog::close);
+        layout->addWidget(close);
+        shortcuts_->resize(640, 720);
+    }
+    shortcuts_->findChild<QLabel*>("shortcutsText")->setText(shortcutsText());
+    shortcuts_->show();
+    shortcuts_->raise();
 }
 
 bool MainWindow::openProject(const QString& path, bool dialog) {
@@ -466,7 +742,7 @@ QString MainWindow::autosavePath(const QString& projectPath) {
 }
 
 bool MainWindow::autosaveNow() {
-    if (!session_.modified() || session_.path().isEmpty()) return false;
+    if (!session_.modified() || session_.path().isEmpty() || discarded_) return false;
     const QString path = autosavePath(session_.path());
     auto text = std::make_shared<const std::string>(projectToJson(session_.project()).dump(2) + "\n");
     QPointer<MainWindow> window(this);
@@ -517,8 +793,15 @@ void MainWindow::refreshRecentMenu() {
     recentMenu_->setEnabled(!recentMenu_->isEmpty());
 }
 
+std::string MainWindow::viewsKey() const {
+    std::string key;
+    for (const View& v : session_.project().views) key += v.name + "\n" + v.technique + "\n";
+    return key;
+}
+
 void MainWindow::rebuildViews() {
     const Project& project = session_.project();
+    viewsKey_ = viewsKey();
     frames_.assign(project.views.size(), ViewFrame{});
     generation_.assign(project.views.size(), 0);
     referenceGeneration_.assign(project.views.size(), 0);
@@ -537,17 +820,28 @@ void MainWindow::rebuildViews() {
     referenceView_ = -1;
     state_.region = QRect();
     refreshSnapshotList();
+    // Nothing of the previous project stays on screen: the inspector, the pdf plot, the snapshot comparison.
+    inspector_->setText("Move the cursor over a view");
+    pdf_->showMessage("Move the cursor over a view whose technique samples distances (WVDS).");
+    {
+        const QSignalBlocker block(compareButton_);
+        compareButton_->setChecked(false);
+    }
     viewList_->clear();
     for (std::size_t i = 0; i < project.views.size(); ++i) {
         const View& v = project.views[i];
         frames_[i].name = QString::fromStdString(v.name);
         frames_[i].technique = displayNameOf(v.technique);
         frames_[i].exposure = v.exposure;
+        frames_[i].state = stateOfKey(partKeys_[i]);
         viewList_->addItem(QString("%1  %2  (%3)").arg(i + 1).arg(frames_[i].name, frames_[i].technique));
     }
     state_.current = 0;
     if (!frames_.empty()) viewList_->setCurrentRow(0);
     parameters_->showView(frames_.empty() ? -1 : 0);
+    plotConvergence();
+    updateMetricsDock();
+    updatePhasePlots();
 }
 
 void MainWindow::renderView(int view, bool reference) {
@@ -557,9 +851,12 @@ void MainWindow::renderView(int view, bool reference) {
     task.view = view;
     task.reference = reference;
     task.generation = nextGeneration_++;
+    task.state = frames_[std::size_t(view)].state;
     try {
         task.job = std::make_shared<RenderJob>(reference ? makeReferenceJob(project, session_.path().toStdString(), name)
                                                          : makeViewJob(project, session_.path().toStdString(), name));
+        // Every image carries the state of its part (exports pair a view with its reference by it).
+        task.job->metadata["partHash"] = stateName(task.state).toStdString();
     } catch (const std::exception& e) {
         frames_[std::size_t(view)].error = QString::fromStdString(e.what());
         recompose();
@@ -574,6 +871,10 @@ void MainWindow::renderView(int view, bool reference) {
         return;
     }
     referencePending_[std::size_t(view)] = true;
+    frames_[std::size_t(view)].referenceRendering = true;
+    frames_[std::size_t(view)].referenceEta = -1.0;
+    frames_[std::size_t(view)].referenceTargetSpp = task.job->request.spp;
+    updateStatus();
     // A finished reference of exactly this part of the scene may be on disk already.
     const QString cached = referenceCachePath(view);
     cachePathOf_[task.generation] = cached;
@@ -586,6 +887,7 @@ void MainWindow::renderView(int view, bool reference) {
             out.view = task.view;
             out.reference = true;
             out.generation = task.generation;
+            out.state = task.state;
             try {
                 auto image = std::make_shared<Image>(readImage(cached.toStdString()));
                 out.spp = image->metadata.count("spp") ? std::atoi(image->metadata.at("spp").c_str()) : 0;
@@ -648,7 +950,7 @@ bool MainWindow::settled() const {
         if (p) return false;
     for (bool p : referencePending_)
         if (p) return false;
-    return renderer_->idle() && dirtyViews_.empty() && dirtyParts_.empty() && !debounce_.isActive() &&
+    return renderer_->idle() && exportsRunning_ == 0 && dirtyViews_.empty() && dirtyParts_.empty() && !debounce_.isActive() &&
            metricsPending_ == 0 && convergencePending_ == 0;
 }
 
@@ -663,8 +965,14 @@ void MainWindow::onOutput(const RenderOutput& out) {
         statusBar()->showMessage(f.name + ": " + out.error, 10000);
     } else if (out.reference) {
         f.reference = out.image;
+        f.referenceState = out.state;
         f.referenceSpp = out.spp;
         f.referenceCached = out.cached;
+        if (out.targetSpp > 0) f.referenceTargetSpp = out.targetSpp;
+        // Estimated from this render's own pace (an interrupted reference starts again from zero).
+        f.referenceEta = out.final || out.spp <= 0 || f.referenceTargetSpp <= out.spp
+                             ? -1.0
+                             : out.seconds / out.spp * (f.referenceTargetSpp - out.spp);
         // A finished reference goes to the disk cache (atomically), so that reopening the project starts from it.
         const auto path = cachePathOf_.find(out.generation);
         if (out.final && !out.cached && path != cachePathOf_.end() && out.image) {
@@ -682,6 +990,7 @@ void MainWindow::onOutput(const RenderOutput& out) {
         if (out.final) cachePathOf_.erase(out.generation);
     } else {
         f.image = out.image;
+        f.imageState = out.state;
         f.spp = out.spp;
         f.seconds = out.seconds;
         f.error.clear();
@@ -691,9 +1000,18 @@ void MainWindow::onOutput(const RenderOutput& out) {
         f.rendering = false;
         if (dirtyViews_.count(out.view)) QTimer::singleShot(0, this, [this] { flushDirty(); });
     }
-    if (out.reference && out.final) referencePending_[std::size_t(out.view)] = false;
+    if (out.reference && out.final) {
+        referencePending_[std::size_t(out.view)] = false;
+        f.referenceRendering = false;
+    }
+    if (f.image && f.reference && f.imageState == f.referenceState) {
+        f.pairImage = f.image;  // the newest pair of one state: what comparisons use while the other catches up
+        f.pairReference = f.reference;
+    }
     if (!out.reference && out.image) {
-        addConvergencePoint(progress_[std::size_t(out.view)], Progress{out.spp, out.seconds, out.image});
+        Progress point{out.spp, out.seconds, out.image};
+        point.state = out.state;
+        addConvergencePoint(progress_[std::size_t(out.view)], std::move(point));
     }
     if (!out.reference && out.view == referenceView_) refreshAlternates();
     updateMetrics(out.view);
@@ -713,7 +1031,9 @@ void MainWindow::updateMetrics(int view) {
     ViewFrame& f = frames_[std::size_t(view)];
     f.metrics.reset();
     f.regionMetrics.reset();
-    const std::shared_ptr<const Image> image = f.image, against = comparand(f);
+    const ComparisonPair pair = comparisonPair(f);
+    f.metricsStale = pair.stale;
+    const std::shared_ptr<const Image> image = pair.image, against = pair.against;
     if (!image || !against || image->width() != against->width() || image->height() != against->height()) return;
     const double exposure = f.exposure;
     const QRect region = state_.region.intersected(QRect(0, 0, image->width(), image->height()));
@@ -735,7 +1055,8 @@ void MainWindow::updateMetrics(int view) {
             // the pool's order, and must not be overwritten by this one.
             if (latestMetrics_[std::size_t(view)] != request) return;
             ViewFrame& f = frames_[std::size_t(view)];
-            if (f.image != image || comparand(f) != against) return;
+            const ComparisonPair now = comparisonPair(f);
+            if (now.image != image || now.against != against) return;
             f.metrics = whole;
             f.regionMetrics = part;
             updateMetricsDock();
@@ -751,18 +1072,22 @@ void MainWindow::updateConvergence() {
     struct Item {
         std::size_t view, index;
         std::shared_ptr<const Image> image, reference;
+        bool alternate = false;
         double relMSE = 0.0;
     };
     std::vector<Item> items;
     for (std::size_t i = 0; i < frames_.size(); ++i) {
-        const std::shared_ptr<const Image>& reference = frames_[i].reference;
+        // Against the view chosen as every view's reference (Shift+1-9), else the reference of the image's state.
+        const bool alternate = bool(frames_[i].alternate);
+        const std::shared_ptr<const Image>& reference = alternate ? frames_[i].alternate : frames_[i].reference;
         if (!reference) continue;
         for (std::size_t k = 0; k < progress_[i].size(); ++k) {
             Progress& p = progress_[i][k];
+            if (!alternate && p.state != frames_[i].referenceState) continue;  // only images of one state compare
             if (p.image->width() != reference->width() || p.image->height() != reference->height()) continue;
             if (p.against == reference || p.requested == reference) continue;
             p.requested = reference;
-            items.push_back({i, k, p.image, reference});
+            items.push_back({i, k, p.image, reference, alternate});
         }
     }
     plotConvergence();
@@ -789,6 +1114,7 @@ void MainWindow::updateConvergence() {
                 if (p.image != item.image) continue;
                 p.relMSE = item.relMSE;
                 p.against = item.reference;
+                p.againstAlternate = item.alternate;
                 if (p.requested == item.reference) p.requested.reset();
             }
             plotConvergence();
@@ -802,9 +1128,12 @@ void MainWindow::plotConvergence() {
     for (std::size_t i = 0; i < frames_.size(); ++i) {
         names.push_back(frames_[i].name);
         points.emplace_back();
-        if (!frames_[i].reference) continue;
-        for (const Progress& p : progress_[i])
-            if (p.relMSE >= 0.0) points.back().push_back({p.spp, p.seconds, p.relMSE});
+        const ViewFrame& f = frames_[i];
+        for (const Progress& p : progress_[i]) {
+            const bool valid = f.alternate ? p.againstAlternate && p.against == f.alternate
+                                           : !p.againstAlternate && p.against && p.state == f.referenceState;
+            if (p.relMSE >= 0.0 && valid) points.back().push_back({p.spp, p.seconds, p.relMSE});
+        }
     }
     convergence_->setSeries(names, points);
 }
@@ -830,15 +1159,68 @@ void MainWindow::updateMetricsDock() {
             for (int c = 1; c < 5; ++c) set(row, c, "");
             continue;
         }
-        set(row, 0, QString::number(f.metrics->relMSE, 'g', 3));
+        // A stale pair's numbers stay, marked, until the new reference arrives.
+        set(row, 0, QString::number(f.metrics->relMSE, 'g', 3) + (f.metricsStale ? " (stale)" : ""));
         set(row, 1, QString::number(f.metrics->psnr, 'g', 4));
         set(row, 2, f.metrics->referenceNoiseRelMSE ? QString::number(*f.metrics->referenceNoiseRelMSE, 'g', 3) : "-");
         set(row, 3, QString::number(f.metrics->energyBias, 'g', 3));
         set(row, 4, f.regionMetrics ? QString::number(f.regionMetrics->relMSE, 'g', 3) : "-");
     }
+    updateStatus();
+}
+
+void MainWindow::updatePhasePlots() {
+    // Every medium of the project, the current view's own first and bold.
+    const Project& project = session_.project();
+    std::vector<std::string> own;
+    if (state_.current >= 0 && state_.current < int(project.views.size())) {
+        try {
+            own = resolvePart(project, project.views[std::size_t(state_.current)]).media;
+        } catch (const std::exception&) {
+        }
+    }
+    std::vector<PhaseCurve> curves;
+    auto add = [&](const std::string& name, const PhaseFunction& phase) {
+        const bool selected = std::find(own.begin(), own.end(), name) != own.end();
+        PhaseCurve c{QString::fromStdString(name + " (" + toString(phase.kind) + ")"),
+                     [phase](double mu) { return phaseValue(phase, mu); }, selected};
+        curves.insert(selected ? curves.begin() : curves.end(), std::move(c));
+    };
+    for (const HomogeneousMedium& m : project.scene.media) add(m.name, m.phase);
+    for (const ParticleMedium& m : project.scene.particleMedia) add(m.name, m.phase);
+    phasePolar_->setCurves(curves);
+    phaseCosine_->setCurves(std::move(curves));
+}
+
+void MainWindow::updateStatus() {
+    if (!renderStatus_) return;
+    QStringList references;
+    int stale = 0;
+    for (const ViewFrame& f : frames_) {
+        if (f.referenceRendering) references << f.name + ": " + referenceProgress(f);
+        stale += f.metricsStale;
+    }
+    QString text = references.isEmpty() ? QString("Ready") : references.join("; ");
+    if (stale > 0)
+        text += QString(" | %1 comparison%2 stale (the last matching pair) until %3 reference%2 %4")
+                    .arg(stale)
+                    .arg(stale > 1 ? "s" : "")
+                    .arg(stale > 1 ? "their" : "its")
+                    .arg(stale > 1 ? "arrive" : "arrives");
+    if (renderStatus_->text() != text) renderStatus_->setText(text);
+}
+
+void MainWindow::updateDisplayStatus() {
+    if (!displayStatus_) return;
+    const QString text = QString("display exposure offset %1%2 EV  |  zoom %3x")
+                             .arg(state_.exposureOffset >= 0.0 ? "+" : "")
+                             .arg(state_.exposureOffset, 0, 'g', 3)
+                             .arg(state_.zoom, 0, 'g', 3);
+    if (displayStatus_->text() != text) displayStatus_->setText(text);
 }
 
 void MainWindow::recompose() {
+    updateDisplayStatus();
     // Once per pass of the event loop, however many changes it brought. Right after an edit, the frame that would only
     // mark the view as rendering waits up to kEditQuietMs: if the new image comes first (the analytic techniques take
     // ~100 ms), that frame is never composed nor presented, and the two cores go to the render.
@@ -881,6 +1263,7 @@ const QImage& MainWindow::composedFrame() {
 
 void MainWindow::setLayoutMode(Layout layout) {
     state_.layout = layout;
+    if (QAction* a = layoutActions_[int(layout)]; a && !a->isChecked()) a->setChecked(true);  // the toolbar follows
     recompose();
 }
 
@@ -909,7 +1292,7 @@ void MainWindow::onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed) {
     }
     if (key >= Qt::Key_1 && key <= Qt::Key_9) {
         selectView(key - Qt::Key_1);
-        if (state_.layout == Layout::Grid) state_.layout = Layout::Single;
+        if (state_.layout == Layout::Grid) setLayoutMode(Layout::Single);
         recompose();
     } else if (key == Qt::Key_T) {
         state_.swapped = !state_.swapped;
@@ -965,12 +1348,31 @@ void MainWindow::updateTitle() {
     setWindowModified(session_.modified());
 }
 
+bool MainWindow::saveProjectAs(const QString& path, QString* error) {
+    const QString before = session_.path();
+    const bool modified = session_.modified();
+    if (!session_.saveAs(path, error)) return false;
+    // The changes are in the new file: the old file's autosave (and the new one's, if it was not modified) hold
+    // nothing to recover.
+    if (!before.isEmpty() && QFileInfo(before).absoluteFilePath() != QFileInfo(path).absoluteFilePath())
+        autosaves_->start([old = autosavePath(before)] { QFile::remove(old); });
+    if (!modified) removeAutosave();
+    addRecent(path);
+    updateTitle();
+    return true;
+}
+
 bool MainWindow::confirmDiscard() {
     if (!session_.modified()) return true;
     const auto answer = QMessageBox::question(this, "Unsaved changes",
                                               "The project has unsaved changes. Save them first?",
                                               QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel);
     if (answer == QMessageBox::Cancel) return false;
+    // Discarded on purpose: the autosave holds nothing to recover (reopening the file asked to, before).
+    if (answer == QMessageBox::Discard) {
+        removeAutosave();
+        discarded_ = true;  // and no new autosave while a file dialog is open
+    }
     if (answer == QMessageBox::Save) {
         QString error;
         if (!session_.save(&error)) {
@@ -988,6 +1390,7 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     }
     renderer_->cancelAll();
     removeAutosave();  // saved or discarded on purpose: nothing to recover
+    saveLayout();
     event->accept();
 }
 
@@ -1109,6 +1512,7 @@ void MainWindow::refreshAlternates() {
         f.alternateName = use ? frames_[std::size_t(referenceView_)].name : QString();
         updateMetrics(i);
     }
+    updateConvergence();  // the plot follows the choice, too
     updateMetricsDock();
     recompose();
 }
@@ -1190,67 +1594,143 @@ void MainWindow::setRegion(QRect region) {
     recompose();
 }
 
+std::vector<std::function<void()>> MainWindow::exportSteps(const QString& folder) {
+    QDir dir(folder);
+    if (!dir.exists() && !QDir().mkpath(folder)) throw std::runtime_error("cannot create " + folder.toStdString());
+    std::vector<std::function<void()>> steps;
+    nlohmann::json metrics = nlohmann::json::array();
+    std::string csv = metricsCsvHeader() + "\n";
+    const double scale = sharedDifferenceScale(frames_);
+    const Tonemap tonemap = state_.tonemap;
+    exportNotes_.clear();
+    for (const ViewFrame& f : frames_) {
+        const std::string stem = dir.filePath(f.name).toStdString();
+        // PNGs as the viewport shows them: the view's exposure with the E / Shift+E offset, and the operator.
+        const double own = f.exposure, exposure = f.exposure + state_.exposureOffset;
+        // A view and its reference only as a pair of one state: the last such pair while the reference of an edit
+        // renders (marked stale); the image alone, said so, before the first one.
+        const ComparisonPair pair = referencePair(f);
+        const std::shared_ptr<const Image> image = pair.image ? pair.image : f.image;
+        if (image) {
+            steps.push_back([image, stem, own] { writeImage(*image, stem + ".exr", own); });
+            steps.push_back([image, stem, exposure, tonemap] { writeImage(*image, stem + ".png", exposure, tonemap); });
+        }
+        if (pair.against) {
+            const std::shared_ptr<const Image> against = pair.against;
+            steps.push_back([against, stem, own] { writeImage(*against, stem + "-reference.exr", own); });
+            steps.push_back([against, stem, exposure, tonemap] {
+                writeImage(*against, stem + "-reference.png", exposure, tonemap);
+            });
+            steps.push_back([image, against, stem, scale] {
+                writeImage(differenceImage(*image, *against, DifferenceKind::Signed, scale), stem + "-diff.png");
+            });
+        }
+        nlohmann::json m = {{"view", f.name.toStdString()}};
+        if (!image) {
+            m["missing"] = "no image yet";
+            exportNotes_ << f.name + ": no image yet, nothing exported";
+        } else if (!pair.against) {
+            m["missing"] = "the reference is not ready";
+            exportNotes_ << f.name + ": the reference is not ready, the image is exported alone";
+        } else {
+            m["partHash"] = image->metadata.count("partHash") ? image->metadata.at("partHash") : "";
+            m["stale"] = pair.stale;
+            if (pair.stale) exportNotes_ << f.name + ": the last image and reference of one state (stale)";
+        }
+        if (pair.against && f.metrics && !f.snapshot && !f.alternate) {
+            m.update(metricsToJson(*f.metrics));
+            csv += metricsCsvRow(f.name.toStdString(), *f.metrics) + "\n";
+        }
+        metrics.push_back(m);
+        // Region insets: the region of the view and of its reference, when a region is drawn.
+        const QRect region = image ? state_.region.intersected(QRect(0, 0, image->width(), image->height())) : QRect();
+        if (region.isEmpty()) continue;
+        const QString insets = dir.filePath(f.name);
+        const std::shared_ptr<const Image> against = pair.against;
+        steps.push_back([image, against, insets, region, exposure, tonemap] {
+            toDisplay(*image, exposure, tonemap).copy(region).save(insets + "-region.png");
+            if (against) toDisplay(*against, exposure, tonemap).copy(region).save(insets + "-reference-region.png");
+        });
+    }
+    auto writeText = [dir](const QString& name, const std::string& text) {
+        return [path = dir.filePath(name), text] {
+            QSaveFile file(path);
+            if (!file.open(QIODevice::WriteOnly) || file.write(text.data(), qint64(text.size())) < 0 || !file.commit())
+                throw std::runtime_error("cannot write " + path.toStdString());
+        };
+    };
+    steps.push_back(writeText("metrics.json", metrics.dump(2) + "\n"));
+    const nlohmann::json display = {{"tonemap", tonemapNames()[std::size_t(state_.tonemap)]},
+                                     {"exposureOffset", state_.exposureOffset},
+                                     {"differenceScale", scale}};
+    steps.push_back(writeText("display.json", display.dump(2) + "\n"));
+    steps.push_back(writeText("metrics.csv", csv));
+    steps.push_back([frame = composedFrame(), path = dir.filePath("viewport.png")] {
+        if (!frame.save(path)) throw std::runtime_error("cannot write viewport.png");
+    });
+    // The plots draw with their widgets: here, on the GUI thread (~0.1 s each).
+    for (Plot* plot : plots_->plots())
+        for (const char* suffix : {".png", ".svg"}) {
+            QString why;
+            if (!plot->exportTo(dir.filePath("plot-" + plot->name() + suffix), &why))
+                throw std::runtime_error(why.toStdString());
+        }
+    return steps;
+}
+
 bool MainWindow::exportComparison(const QString& folder, QString* error) {
     try {
-        QDir dir(folder);
-        if (!dir.exists() && !QDir().mkpath(folder)) throw std::runtime_error("cannot create " + folder.toStdString());
-        nlohmann::json metrics = nlohmann::json::array();
-        std::string csv = metricsCsvHeader() + "\n";
-        const double scale = sharedDifferenceScale(frames_);
-        for (const ViewFrame& f : frames_) {
-            const std::string stem = dir.filePath(f.name).toStdString();
-            // PNGs as the viewport shows them: the view's exposure with the E / Shift+E offset, and the operator.
-            const double exposure = f.exposure + state_.exposureOffset;
-            if (f.image) {
-                writeImage(*f.image, stem + ".exr", f.exposure);
-                writeImage(*f.image, stem + ".png", exposure, state_.tonemap);
-            }
-            if (f.reference) {
-                writeImage(*f.reference, stem + "-reference.exr", f.exposure);
-                writeImage(*f.reference, stem + "-reference.png", exposure, state_.tonemap);
-            }
-            if (f.image && f.reference && f.metrics) {
-                writeImage(differenceImage(*f.image, *f.reference, DifferenceKind::Signed, scale), stem + "-diff.png");
-                nlohmann::json m = metricsToJson(*f.metrics);
-                m["view"] = f.name.toStdString();
-                metrics.push_back(m);
-                csv += metricsCsvRow(f.name.toStdString(), *f.metrics) + "\n";
-            }
-        }
-        auto writeText = [&](const QString& name, const std::string& text) {
-            QSaveFile file(dir.filePath(name));
-            if (!file.open(QIODevice::WriteOnly) || file.write(text.data(), qint64(text.size())) < 0 || !file.commit())
-                throw std::runtime_error("cannot write " + dir.filePath(name).toStdString());
-        };
-        writeText("metrics.json", metrics.dump(2) + "\n");
-        const nlohmann::json display = {{"tonemap", tonemapNames()[std::size_t(state_.tonemap)]},
-                                         {"exposureOffset", state_.exposureOffset},
-                                         {"differenceScale", scale}};
-        writeText("display.json", display.dump(2) + "\n");
-        writeText("metrics.csv", csv);
-        if (!composedFrame().save(dir.filePath("viewport.png"))) throw std::runtime_error("cannot write viewport.png");
-        for (Plot* plot : plots_->plots())
-            for (const char* suffix : {".png", ".svg"}) {
-                QString why;
-                if (!plot->exportTo(dir.filePath("plot-" + plot->name() + suffix), &why))
-                    throw std::runtime_error(why.toStdString());
-            }
-        // Region insets: the region of every view and of its reference, when a region is drawn.
-        const QRect region = state_.region;
-        for (const ViewFrame& f : frames_) {
-            if (region.isEmpty() || !f.image) continue;
-            const QRect r = region.intersected(QRect(0, 0, f.image->width(), f.image->height()));
-            if (r.isEmpty()) continue;
-            const double exposure = f.exposure + state_.exposureOffset;
-            toDisplay(*f.image, exposure, state_.tonemap).copy(r).save(dir.filePath(f.name + "-region.png"));
-            if (f.reference)
-                toDisplay(*f.reference, exposure, state_.tonemap).copy(r).save(dir.filePath(f.name + "-reference-region.png"));
-        }
+        for (const auto& step : exportSteps(folder))
+            step();
         return true;
     } catch (const std::exception& e) {
         if (error) *error = QString::fromStdString(e.what());
         return false;
     }
+}
+
+void MainWindow::startExport(const QString& folder) {
+    std::vector<std::function<void()>> steps;
+    try {
+        steps = exportSteps(folder);
+    } catch (const std::exception& e) {
+        emit exportFinished(false, QString::fromStdString(e.what()));
+        return;
+    }
+    // The files are written in the background pool, one after another, with a progress dialog that can cancel:
+    // the window stays live (the export froze it for 20-30 s).
+    auto* progress = new QProgressDialog("Exporting the comparison into " + folder, "Cancel", 0, int(steps.size()), this);
+    progress->setObjectName("exportProgress");
+    progress->setAttribute(Qt::WA_DeleteOnClose);
+    progress->setMinimumDuration(0);
+    progress->setValue(0);
+    auto cancelled = std::make_shared<std::atomic<bool>>(false);
+    connect(progress, &QProgressDialog::canceled, this, [cancelled] { *cancelled = true; });
+    QPointer<QProgressDialog> dialog(progress);
+    ++exportsRunning_;
+    inBackground([this, steps = std::move(steps), cancelled, dialog] {
+        QString error;
+        int done = 0;
+        try {
+            for (const auto& step : steps) {
+                if (*cancelled) {
+                    error = "cancelled";
+                    break;
+                }
+                step();
+                QMetaObject::invokeMethod(this, [dialog, n = ++done] {
+                    if (dialog) dialog->setValue(n);
+                }, Qt::QueuedConnection);
+            }
+        } catch (const std::exception& e) {
+            error = QString::fromStdString(e.what());
+        }
+        QMetaObject::invokeMethod(this, [this, dialog, error] {
+            --exportsRunning_;
+            if (dialog) dialog->close();
+            emit exportFinished(error.isEmpty(), error.isEmpty() ? exportNotes_.join("\n") : error);
+        }, Qt::QueuedConnection);
+    });
 }
 
 }  // namespace tyndall::studio

@@ -25,6 +25,9 @@
 class QListWidget;
 class QComboBox;
 class QLabel;
+class QAction;
+class QDialog;
+class QPushButton;
 class QTableWidget;
 class QThreadPool;
 class QVulkanInstance;
@@ -51,6 +54,10 @@ public:
     enum class Recovery { Ask, Always, Never };
     void setRecovery(Recovery recovery) { recovery_ = recovery; }
     static QString autosavePath(const QString& projectPath);
+    // Save As: the new file becomes the project (and a recent one); the old file's autosave is removed.
+    bool saveProjectAs(const QString& path, QString* error);
+    // Asks whether to save unsaved changes: false on Cancel. Discard removes the autosave (nothing to recover).
+    bool confirmDiscard();
     bool autosaveNow();
     void waitForAutosaves();
     QStringList recentProjects() const;
@@ -60,8 +67,14 @@ public:
     static QString referenceCacheFolder();
     QString referenceCachePath(int view) const;
     // Writes every view, its reference and its difference (EXR and PNG), the viewport (PNG) and the metrics (JSON and
-    // CSV) into `folder`. Returns false with the reason.
+    // CSV) into `folder`. Returns false with the reason. A view is exported with its reference only as a pair of one
+    // state (ComparisonPair), marked "stale" in metrics.json when it is not the current one; a view without a pair is
+    // listed there with what is missing, and in exportNotes().
     bool exportComparison(const QString& folder, QString* error);
+    // The same in the background with a progress dialog (File > Export): exportFinished says how it went (the notes,
+    // or the error).
+    void startExport(const QString& folder);
+    const QStringList& exportNotes() const { return exportNotes_; }
 
     Session& session() { return session_; }
     RenderService& renderService() { return *renderer_; }
@@ -116,9 +129,23 @@ public:
     // The convergence plot keeps one point per bucket of spp, four buckets per octave (the newest image of each).
     static int convergenceBucket(int spp);
     PdfPlot* pdfPlot() { return pdf_; }
+    // The project's media's phase functions (the current view's first): polar and over cos theta.
+    PhasePlot* phasePolarPlot() { return phasePolar_; }
+    PhasePlot* phaseCosinePlot() { return phaseCosine_; }
+
+    // The window's geometry and dock layout go to QSettings on close and come back on the next start.
+    void saveLayout() const;
+
+    // Help: every menu shortcut and the viewport's mouse bindings, in a window (F1 or ?).
+    void showShortcuts();
+    QString shortcutsText();
+
+signals:
+    void exportFinished(bool ok, const QString& message);
 
 protected:
     void closeEvent(QCloseEvent* event) override;
+    void showEvent(QShowEvent* event) override;
     void keyPressEvent(QKeyEvent* event) override;
     void keyReleaseEvent(QKeyEvent* event) override;
 
@@ -134,8 +161,9 @@ private:
     void updateMetricsDock();
     void updateMetrics(int view);
     void updateConvergence();
+    void updateStatus();  // the references' progress (or "Ready") in the status bar
+    QLabel* renderStatus_ = nullptr;
     void refreshSnapshotList();
-    bool confirmDiscard();
 
     Session session_;
     std::vector<std::string> overrides_;
@@ -172,8 +200,18 @@ private:
     PlotPanel* plots_ = nullptr;
     ConvergencePlot* convergence_ = nullptr;
     PdfPlot* pdf_ = nullptr;
+    PhasePlot *phasePolar_ = nullptr, *phaseCosine_ = nullptr;
+    void updatePhasePlots();
+    std::string viewsKey() const;  // the views' names and techniques: a change of them rebuilds the views
+    std::string viewsKey_;
     QLabel* inspector_ = nullptr;
     QListWidget* snapshotList_ = nullptr;
+    QPushButton* compareButton_ = nullptr;
+    QDialog* shortcuts_ = nullptr;
+    QAction* layoutActions_[3] = {};
+    QLabel* displayStatus_ = nullptr;
+    std::function<void()> defaultDockSizes_;  // applied once shown, unless QSettings restored a layout
+    void updateDisplayStatus();
     std::vector<Snapshot> snapshots_;
     int comparedSnapshot_ = -1;
     int referenceView_ = -1;
@@ -186,6 +224,8 @@ private:
         double relMSE = -1.0;                    // against `against` (-1: not yet); plotted until a newer one arrives
         std::shared_ptr<const Image> against;    // the reference relMSE was computed against
         std::shared_ptr<const Image> requested;  // the reference of the job in flight for it, if any
+        quint64 state = 0;                       // of the image: compared only with a reference of this state
+        bool againstAlternate = false;           // `against` is the image of the view chosen with Shift+1-9
     };
     std::vector<std::vector<Progress>> progress_;
     int convergencePending_ = 0;  // relMSE jobs in the background pool
@@ -196,6 +236,7 @@ private:
     QTimer autosave_;
     Recovery recovery_ = Recovery::Ask;
     bool opening_ = false;
+    bool discarded_ = false;  // the user discarded the unsaved changes (Discard on Open): nothing to autosave
     int metricsPending_ = 0;
     quint64 metricsRequests_ = 0;           // metrics jobs started so far
     std::vector<quint64> latestMetrics_;    // per view: the job whose result it shows (an older job's is dropped)
@@ -203,6 +244,10 @@ private:
     void addRecent(const QString& path);
     std::map<quint64, QString> cachePathOf_;  // reference renders in flight: where their result is cached
     void refreshRecentMenu();
+    QStringList exportNotes_;
+    int exportsRunning_ = 0;
+    // What an export writes, gathered on the GUI thread (the plots are drawn there): each file a step of its own.
+    std::vector<std::function<void()>> exportSteps(const QString& folder);
 };
 
 // Adds a view's progressive image (anything with an `spp`) to its convergence points: a lower spp than the last

@@ -9,9 +9,14 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QSlider>
+#include <QSignalBlocker>
 #include <QSpinBox>
+#include <QVBoxLayout>
+#include <QStandardItemModel>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace tyndall::studio {
 
@@ -40,27 +45,175 @@ int valueToSlider(const ParamInfo& p, double value) {
 ParameterPanel::ParameterPanel(Session& session, QWidget* parent) : QWidget(parent), session_(session) {
     form_ = new QFormLayout(this);
     connect(&session_, &Session::viewChanged, this, [this](int view) {
-        if (view == view_ && !updating_) rebuild();
+        if (view == view_) refresh();
     });
     connect(&session_, &Session::projectReplaced, this, [this] { showView(session_.project().views.empty() ? -1 : 0); });
-    connect(&session_, &Session::sceneChanged, this, [this] {
-        if (!updating_) rebuild();
-    });
+    connect(&session_, &Session::sceneChanged, this, [this] { refresh(); });
 }
 
 void ParameterPanel::showView(int view) {
     view_ = view;
-    rebuild();
+    // From the views list or a new project: rebuilt at once. From an edit of this panel (a technique change rebuilds
+    // the window's views): from the event loop, since the editor is still on the stack.
+    if (updating_)
+        scheduleRebuild();
+    else
+        rebuild();
+}
+
+std::optional<ParamSet> ParameterPanel::parameters(std::string& key) const {
+    const Project& project = session_.project();
+    if (view_ < 0 || view_ >= int(project.views.size())) {
+        key = "none";
+        return std::nullopt;
+    }
+    const View& view = project.views[std::size_t(view_)];
+    key = std::to_string(view_) + "/" + view.name + "/" + view.technique;
+    try {
+        ParamSet params = makeViewJob(project, session_.path().toStdString(), view.name).request.params;
+        for (const ParamInfo& info : params.infos())
+            key += "/" + info.name + ":" + std::to_string(int(info.type));
+        return params;
+    } catch (const std::exception& e) {
+        key += std::string("/error:") + e.what();
+        return std::nullopt;
+    }
+}
+
+void ParameterPanel::scheduleRebuild() {
+    // Queued: the widget whose signal led here may still be on the stack (a spin box in its stepBy).
+    if (rebuildQueued_) return;
+    rebuildQueued_ = true;
+    QMetaObject::invokeMethod(this, [this] {
+        if (!rebuildQueued_) return;  // rebuilt in the meantime
+        rebuild();
+    }, Qt::QueuedConnection);
+}
+
+void ParameterPanel::refresh() {
+    // An edit from this panel: its widget shows the value already (and is left alone while the user types in it).
+    if (updating_ || rebuildQueued_) return;
+    std::string key;
+    const std::optional<ParamSet> params = parameters(key);
+    if (key != builtKey_ || !params) {
+        scheduleRebuild();
+        return;
+    }
+    updating_ = true;
+    for (const auto& show : refreshers_)
+        show(session_.project().views[std::size_t(view_)], *params);
+    updating_ = false;
 }
 
 void ParameterPanel::rebuild() {
     while (form_->rowCount() > 0)
         form_->removeRow(0);
+    refreshers_.clear();
+    rebuildQueued_ = false;
+    std::string key;
+    const std::optional<ParamSet> parsed = parameters(key);
+    builtKey_ = key;
     const Project& project = session_.project();
     if (view_ < 0 || view_ >= int(project.views.size())) return;
     const View& view = project.views[std::size_t(view_)];
     form_->addRow(new QLabel("<b>" + QString::fromStdString(view.name) + "</b>  (" +
                              QString::fromStdString(view.technique) + ")"));
+
+    // The technique: those that cannot render the view's part are disabled, with the reason.
+    auto* technique = new QComboBox;
+    technique->setObjectName("technique");
+    auto* model = qobject_cast<QStandardItemModel*>(technique->model());
+    for (const std::string& name : techniqueNames()) {
+        technique->addItem(QString::fromStdString(name));
+        if (!view.part) continue;  // the default part is what the technique supports
+        std::vector<std::string> missing;
+        try {
+            missing = createTechnique(name)->unsupported(view.part->apply(project.scene));
+        } catch (const std::exception& e) {
+            missing = {e.what()};
+        }
+        if (missing.empty()) continue;
+        QString why = "cannot render this view's part:";
+        for (const std::string& m : missing) why += "\n" + QString::fromStdString(m);
+        QStandardItem* item = model->item(technique->count() - 1);
+        item->setEnabled(false);
+        item->setToolTip(why);
+    }
+    technique->setCurrentText(QString::fromStdString(view.technique));
+    technique->setToolTip("The view's technique (undoable; its parameters start from the defaults)");
+    connect(technique, &QComboBox::currentTextChanged, this, [this](const QString& name) {
+        if (updating_) return;
+        QString error;
+        // The panel rebuilds from the event loop after the edit (this combo box is still on the stack).
+        updating_ = true;
+        const bool ok = session_.setTechnique(view_, name.toStdString(), &error);
+        updating_ = false;
+        if (!ok) {
+            scheduleRebuild();
+            emit techniqueRefused(error);
+        }
+    });
+    form_->addRow("technique", technique);
+
+    // What the view renders: every light and medium of the scene, those the technique cannot render disabled with
+    // the reason.
+    {
+        const std::unique_ptr<Technique> t = createTechnique(view.technique);
+        std::vector<std::pair<std::string, Support>> elements;
+        const Scene& scene = project.scene;
+        for (const auto& l : scene.pointLights) elements.push_back({l.name, t->supports(l)});
+        for (const auto& l : scene.directionalLights) elements.push_back({l.name, t->supports(l)});
+        for (const auto& l : scene.areaLights) elements.push_back({l.name, t->supports(l)});
+        const std::size_t lightCount = elements.size();
+        for (const auto& m : scene.media) elements.push_back({m.name, t->supports(m)});
+        for (const auto& m : scene.particleMedia) elements.push_back({m.name, t->supports(m)});
+        auto* box = new QWidget;
+        auto* layout = new QVBoxLayout(box);
+        layout->setContentsMargins(0, 0, 0, 0);
+        std::vector<std::pair<QCheckBox*, bool>> checks;  // and whether it is a light
+        for (std::size_t i = 0; i < elements.size(); ++i) {
+            const auto& [name, support] = elements[i];
+            auto* check = new QCheckBox(QString::fromStdString(name) + (i < lightCount ? "  (light)" : "  (medium)"));
+            check->setObjectName("part:" + QString::fromStdString(name));
+            check->setEnabled(support.supported);
+            check->setToolTip(support.supported ? QString("Rendered by this view when checked")
+                                                : "The technique cannot render it: " +
+                                                      QString::fromStdString(support.reason));
+            layout->addWidget(check);
+            checks.push_back({check, i < lightCount});
+        }
+        auto show = [checks](const View& v, const Project& p) {
+            ScenePart part;
+            try {
+                part = resolvePart(p, v);
+            } catch (const std::exception&) {
+            }
+            for (const auto& [check, light] : checks) {
+                const std::vector<std::string>& names = light ? part.lights : part.media;
+                const std::string name = check->objectName().mid(5).toStdString();
+                const QSignalBlocker block(check);
+                check->setChecked(std::find(names.begin(), names.end(), name) != names.end());
+            }
+        };
+        show(view, project);
+        refreshers_.push_back([this, show](const View& v, const ParamSet&) { show(v, session_.project()); });
+        for (const auto& [check, light] : checks)
+            connect(check, &QCheckBox::toggled, this, [this, checks](bool) {
+                if (updating_) return;
+                ScenePart part;
+                for (const auto& [c, isLight] : checks)
+                    if (c->isChecked()) (isLight ? part.lights : part.media).push_back(c->objectName().mid(5).toStdString());
+                QString error;
+                updating_ = true;
+                const bool ok = session_.setViewPart(view_, part, &error);
+                updating_ = false;
+                if (!ok) {
+                    scheduleRebuild();  // back to the project's part
+                    emit techniqueRefused(error);
+                }
+            });
+        form_->addRow("renders", box);
+    }
 
     auto* exposure = new QDoubleSpinBox;
     exposure->setObjectName("exposure");
@@ -68,19 +221,27 @@ void ParameterPanel::rebuild() {
     exposure->setSingleStep(0.5);
     exposure->setSuffix(" EV");
     exposure->setValue(view.exposure);
-    exposure->setToolTip("Exposure of this view for display, PNG export and PSNR");
-    connect(exposure, &QDoubleSpinBox::valueChanged, this, [this](double v) { session_.setExposure(view_, v); });
-    form_->addRow("exposure", exposure);
+    exposure->setToolTip("This view's own exposure, saved with the project: for display, PNG export and PSNR. The "
+                         "display exposure offset (E / Shift+E, in the status bar) is added to every view on screen");
+    connect(exposure, &QDoubleSpinBox::valueChanged, this, [this](double v) {
+        if (updating_) return;
+        updating_ = true;
+        session_.setExposure(view_, v);
+        updating_ = false;
+    });
+    refreshers_.push_back([exposure](const View& v, const ParamSet&) {
+        const QSignalBlocker block(exposure);
+        exposure->setValue(v.exposure);
+    });
+    form_->addRow("view exposure", exposure);
 
-    ParamSet params;
-    try {
-        params = makeViewJob(project, session_.path().toStdString(), view.name).request.params;
-    } catch (const std::exception& e) {
-        auto* error = new QLabel(QString::fromStdString(e.what()));
+    if (!parsed) {
+        auto* error = new QLabel(QString::fromStdString(key.substr(key.find("/error:") + 7)));
         error->setWordWrap(true);
         form_->addRow(error);
         return;
     }
+    const ParamSet& params = *parsed;
     updating_ = true;
     const int viewIndex = view_;
     for (const ParamInfo& info : params.infos()) {
@@ -113,6 +274,12 @@ void ParameterPanel::rebuild() {
                 slider->setValue(valueToSlider(info, v));
                 set(v);
             });
+            refreshers_.push_back([spin, slider, info](const View&, const ParamSet& p) {
+                const double v = std::get<double>(p.get(info.name));
+                const QSignalBlocker blockSpin(spin), blockSlider(slider);
+                spin->setValue(v);
+                slider->setValue(valueToSlider(info, v));
+            });
             spin->setObjectName("param:" + name);
             layout->addWidget(slider, 2);
             layout->addWidget(spin, 1);
@@ -124,6 +291,10 @@ void ParameterPanel::rebuild() {
             spin->setRange(int(info.min), int(info.max));
             spin->setValue(int(std::get<std::int64_t>(value)));
             connect(spin, &QSpinBox::valueChanged, this, [set](int v) { set(std::int64_t(v)); });
+            refreshers_.push_back([spin, key = info.name](const View&, const ParamSet& p) {
+                const QSignalBlocker block(spin);
+                spin->setValue(int(std::get<std::int64_t>(p.get(key))));
+            });
             spin->setObjectName("param:" + name);
             editor = spin;
             break;
@@ -132,6 +303,10 @@ void ParameterPanel::rebuild() {
             auto* check = new QCheckBox;
             check->setChecked(std::get<bool>(value));
             connect(check, &QCheckBox::toggled, this, [set](bool v) { set(v); });
+            refreshers_.push_back([check, key = info.name](const View&, const ParamSet& p) {
+                const QSignalBlocker block(check);
+                check->setChecked(std::get<bool>(p.get(key)));
+            });
             check->setObjectName("param:" + name);
             editor = check;
             break;
@@ -143,6 +318,10 @@ void ParameterPanel::rebuild() {
             combo->setCurrentText(QString::fromStdString(std::get<std::string>(value)));
             connect(combo, &QComboBox::currentTextChanged, this,
                     [set](const QString& v) { set(v.toStdString()); });
+            refreshers_.push_back([combo, key = info.name](const View&, const ParamSet& p) {
+                const QSignalBlocker block(combo);
+                combo->setCurrentText(QString::fromStdString(std::get<std::string>(p.get(key))));
+            });
             combo->setObjectName("param:" + name);
             editor = combo;
             break;
@@ -164,6 +343,13 @@ void ParameterPanel::rebuild() {
                 connect(s, &QDoubleSpinBox::valueChanged, this, [set, spins](double) {
                     set(nlohmann::json::array({spins[0]->value(), spins[1]->value(), spins[2]->value()}));
                 });
+            refreshers_.push_back([spins, key = info.name](const View&, const ParamSet& p) {
+                const Rgb v = std::get<Rgb>(p.get(key));
+                for (int c = 0; c < 3; ++c) {
+                    const QSignalBlocker block(spins[std::size_t(c)]);
+                    spins[std::size_t(c)]->setValue(v[c]);
+                }
+            });
             row->setObjectName("param:" + name);
             editor = row;
             break;

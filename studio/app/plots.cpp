@@ -8,6 +8,7 @@
 #include <QVBoxLayout>
 
 #include <cmath>
+#include <numbers>
 
 namespace tyndall::studio {
 
@@ -63,7 +64,9 @@ ConvergencePlot::ConvergencePlot(QWidget* parent) : Plot("convergence", parent) 
     plot_->yAxis->setScaleType(QCPAxis::stLogarithmic);
     plot_->xAxis->setTicker(QSharedPointer<QCPAxisTickerLog>(new QCPAxisTickerLog));
     plot_->yAxis->setTicker(QSharedPointer<QCPAxisTickerLog>(new QCPAxisTickerLog));
-    plot_->yAxis->setLabel("relMSE against the reference");
+    plot_->yAxis->setNumberFormat("eb");  // 10^-3, not 0.001
+    plot_->yAxis->setNumberPrecision(0);
+    plot_->yAxis->setLabel("relMSE against the reference (or the view chosen with Shift+1-9)");
     caption_->setText("Each view's error against its reference as it refines (log-log).");
     redraw();
 }
@@ -99,9 +102,15 @@ void ConvergencePlot::redraw() {
             yMax = std::max(yMax, p.relMSE);
         }
     }
+    // Whole decades on both axes, so that the log ticker labels powers of ten (within a decade it had one tick or
+    // none, and the labels read 2.5, 5, 7.5).
+    auto decades = [](double lo, double hi) {
+        const double l = std::pow(10.0, std::floor(std::log10(lo))), h = std::pow(10.0, std::ceil(std::log10(hi)));
+        return QCPRange(l, h > l ? h : 10.0 * l);
+    };
     if (xMax > 0.0) {
-        plot_->xAxis->setRange(xMin / 1.5, xMax * 1.5);
-        plot_->yAxis->setRange(yMin / 2.0, yMax * 2.0);
+        plot_->xAxis->setRange(decades(xMin / 1.5, xMax * 1.5));
+        plot_->yAxis->setRange(decades(yMin / 2.0, yMax * 2.0));
     } else {
         plot_->xAxis->setRange(1.0, 100.0);
         plot_->yAxis->setRange(1e-4, 1.0);
@@ -143,6 +152,78 @@ void PdfPlot::showMessage(const QString& message) {
     plot_->clearGraphs();
     plot_->replot(QCustomPlot::rpQueuedReplot);  // once per pass of the event loop
     caption_->setText(message);
+}
+
+PhasePlot::PhasePlot(Kind kind, QWidget* parent)
+    : Plot(kind == Kind::Polar ? "phase-polar" : "phase-cosine", parent), kind_(kind) {
+    if (kind_ == Kind::Polar) {
+        // p(theta) as the distance from the origin in the scattering plane: forward scattering points right (+x).
+        plot_->xAxis->setLabel("p(theta) cos theta  [1/sr]");
+        plot_->yAxis->setLabel("p(theta) sin theta  [1/sr]");
+        caption_->setText("Phase functions of the project's media in the scattering plane (the selected view's "
+                          "media bold); light arrives from the left.");
+    } else {
+        plot_->yAxis->setScaleType(QCPAxis::stLogarithmic);
+        plot_->yAxis->setTicker(QSharedPointer<QCPAxisTickerLog>(new QCPAxisTickerLog));
+        plot_->yAxis->setNumberFormat("eb");
+        plot_->yAxis->setNumberPrecision(0);
+        plot_->xAxis->setLabel("cos theta");
+        plot_->yAxis->setLabel("p  [1/sr]");
+        caption_->setText("Phase functions of the project's media over the cosine of the scattering angle (log).");
+    }
+    redraw();
+}
+
+void PhasePlot::setCurves(std::vector<PhaseCurve> curves) {
+    curves_ = std::move(curves);
+    redraw();
+}
+
+void PhasePlot::redraw() {
+    plot_->clearPlottables();
+    double extent = 0.0, lo = 1e300, hi = 0.0;
+    for (std::size_t i = 0; i < curves_.size(); ++i) {
+        const PhaseCurve& c = curves_[i];
+        const QPen pen(seriesColour(int(i)), c.selected ? 2.5 : 1.2);
+        if (kind_ == Kind::Polar) {
+            // A closed curve over theta in [0, 2 pi] (QCPCurve keeps the order of its points, a graph would sort x).
+            auto* curve = new QCPCurve(plot_->xAxis, plot_->yAxis);
+            curve->setName(c.name);
+            curve->setPen(pen);
+            QVector<QCPCurveData> data;
+            for (int k = 0; k < kSamples; ++k) {
+                const double theta = 2.0 * std::numbers::pi * k / (kSamples - 1), r = c.value(std::cos(theta));
+                data.append(QCPCurveData(k, r * std::cos(theta), r * std::sin(theta)));
+                extent = std::max(extent, r);
+            }
+            curve->data()->set(data, true);
+        } else {
+            QCPGraph* graph = plot_->addGraph();
+            graph->setName(c.name);
+            graph->setPen(pen);
+            for (int k = 0; k < kSamples; ++k) {
+                const double mu = -1.0 + 2.0 * k / (kSamples - 1), v = c.value(mu);
+                if (!(v > 0.0)) continue;  // log axis
+                graph->addData(mu, v);
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+            }
+        }
+    }
+    if (kind_ == Kind::Polar) {
+        const double e = extent > 0.0 ? extent * 1.05 : 1.0;
+        plot_->xAxis->setRange(-e, e);
+        plot_->yAxis->setRange(-e, e);
+        // One unit the same length on both axes, so that the shape is the phase function's.
+        plot_->yAxis->setScaleRatio(plot_->xAxis, 1.0);
+    } else {
+        plot_->xAxis->setRange(-1.0, 1.0);
+        if (hi > 0.0) {
+            const double l = std::pow(10.0, std::floor(std::log10(lo))), h = std::pow(10.0, std::ceil(std::log10(hi)));
+            plot_->yAxis->setRange(l, h > l ? h : 10.0 * l);
+        }
+    }
+    plot_->replot(QCustomPlot::rpQueuedReplot);
 }
 
 PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {

@@ -3,7 +3,9 @@
 // and exports itself to PNG and SVG.
 //   ConvergencePlot  error of each view against its reference over spp and over time, log-log;
 //   PdfPlot          at the pixel under the cursor, the sampled-distance histograms and analytic pdfs of a technique
-//                    that provides them through its "distances" probe (WVDS does).
+//                    that provides them through its "distances" probe (WVDS does);
+//   PhasePlot        phase functions, as a polar plot over the scattering angle or as a curve over cos theta, any
+//                    number overlaid (the selected medium's first and bold; a fit can be added as one more curve).
 #pragma once
 
 #include "tyndall/technique.h"
@@ -11,6 +13,7 @@
 #include <QString>
 #include <QWidget>
 
+#include <functional>
 #include <vector>
 
 class QCustomPlot;
@@ -64,6 +67,28 @@ public:
     explicit PdfPlot(QWidget* parent = nullptr);
     void showProbe(const ProbeResult& result);
     void showMessage(const QString& message);
+};
+
+// A phase function to plot: its value per steradian at mu = cos theta.
+struct PhaseCurve {
+    QString name;
+    std::function<double(double mu)> value;
+    bool selected = false;  // drawn bold (the selected view's medium)
+};
+
+class PhasePlot final : public Plot {
+    Q_OBJECT
+public:
+    enum class Kind { Polar, OverCosine };
+    explicit PhasePlot(Kind kind, QWidget* parent = nullptr);
+    void setCurves(std::vector<PhaseCurve> curves);
+    const std::vector<PhaseCurve>& curves() const { return curves_; }
+    static constexpr int kSamples = 361;  // points per curve
+
+private:
+    void redraw();
+    Kind kind_;
+    std::vector<PhaseCurve> curves_;
 };
 
 // The dock's content: the plots in tabs.

@@ -116,6 +116,8 @@ void RenderService::run() {
         out.view = task->view;
         out.reference = task->reference;
         out.generation = task->generation;
+        out.state = task->state;
+        out.targetSpp = task->job->request.spp;
         const auto started = Clock::now();
         trace("%s %d: worker starts", task->reference ? "reference" : "view", task->view);
         auto lastPost = started - std::chrono::hours(1);  // the first progressive image goes out at once
@@ -127,8 +129,9 @@ void RenderService::run() {
             lastPost = Clock::now();
             RenderOutput partial = out;
             auto copy = std::make_shared<Image>(image);
-            // The job's metadata (project hash, what the view leaves out) travels with every image, not only the last.
-            for (const auto& [key, value] : task->job->metadata) copy->metadata[key] = value;
+            // Progressive images carry the job's metadata too (the view, partHash, what it leaves out), as the final one
+            // does.
+            for (const auto& [key, value] : task->job->metadata) copy->metadata.emplace(key, value);
             partial.image = std::move(copy);
             partial.spp = spp;
             partial.seconds = std::chrono::duration<double>(Clock::now() - started).count();

@@ -29,6 +29,7 @@ struct RenderTask {
     int view = 0;
     bool reference = false;
     quint64 generation = 0;  // increases with every edit; outputs of older generations are stale
+    quint64 state = 0;       // the state of the view's part of the scene it renders (images of one state compare)
     std::shared_ptr<RenderJob> job;
 };
 
@@ -36,8 +37,10 @@ struct RenderOutput {
     int view = 0;
     bool reference = false;
     quint64 generation = 0;
+    quint64 state = 0;                   // the task's
     std::shared_ptr<const Image> image;  // null when the render failed
     int spp = 0;
+    int targetSpp = 0;                   // what the render goes to (0: the technique's default)
     double seconds = 0.0;
     bool final = false;
     bool cached = false;  // a reference read from the disk cache, not rendered

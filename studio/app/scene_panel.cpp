@@ -5,6 +5,7 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QScrollArea>
+#include <QSignalBlocker>
 #include <QVBoxLayout>
 
 #include <array>
@@ -39,8 +40,50 @@ ScenePanel::ScenePanel(Session& session, QWidget* parent) : QWidget(parent), ses
     outer->addWidget(status_);
     connect(&session_, &Session::projectReplaced, this, &ScenePanel::rebuild);
     connect(&session_, &Session::sceneChanged, this, [this] {
-        if (!updating_) rebuild();
+        if (!updating_) refresh();
     });
+}
+
+std::vector<ScenePanel::Field> ScenePanel::fields() const {
+    std::vector<Field> out;
+    const nlohmann::json j = projectToJson(session_.project());
+    out.push_back({"camera", "", "", {}});
+    for (const char* key : {"position", "target", "fovY"})
+        if (j["camera"].contains(key)) out.push_back({"", key, std::string("camera.") + key, j["camera"][key]});
+    for (const char* group : {"media", "lights"}) {
+        if (!j.contains(group)) continue;
+        for (const auto& element : j[group]) {
+            const std::string name = element.value("name", "");
+            out.push_back({QString::fromStdString(std::string(group) + ": " + name), "", "", {}});
+            const std::string prefix = std::string(group) + "[" + name + "].";
+            for (const char* key : {"sigma_s", "sigma_a", "position", "direction", "intensity", "irradiance", "radiance"})
+                if (element.contains(key)) out.push_back({"", key, prefix + key, element[key]});
+            if (element.contains("phase") && element["phase"].contains("g"))
+                out.push_back({"", "phase g", prefix + "phase.g", element["phase"]["g"]});
+        }
+    }
+    return out;
+}
+
+void ScenePanel::refresh() {
+    // The same rows: their values change in place (a field must not be deleted inside its own signal, as a refused
+    // value typed into it would do). Other rows: rebuilt from the event loop.
+    const std::vector<Field> now = fields();
+    std::vector<std::string> paths;
+    for (const Field& f : now)
+        paths.push_back(f.section.toStdString() + "|" + f.path);
+    if (paths != builtPaths_) {
+        if (rebuildQueued_) return;
+        rebuildQueued_ = true;
+        QMetaObject::invokeMethod(this, [this] {
+            if (rebuildQueued_) rebuild();
+        }, Qt::QueuedConnection);
+        return;
+    }
+    updating_ = true;
+    for (const Field& f : now)
+        if (const auto show = setters_.find(f.path); show != setters_.end()) show->second(f.value);
+    updating_ = false;
 }
 
 void ScenePanel::addField(const QString& label, const std::string& path, const nlohmann::json& value) {
@@ -52,12 +95,18 @@ void ScenePanel::addField(const QString& label, const std::string& path, const n
         updating_ = false;
         lastError_ = ok ? QString() : error;
         status_->setText(ok ? QString() : "<font color=#d55e00>" + error.toHtmlEscaped() + "</font>");
-        if (!ok) rebuild();  // back to the project's value
+        if (!ok) refresh();  // back to the project's value
     };
     if (value.is_number()) {
         auto* spin = spinBox(value.get<double>());
         spin->setObjectName("scene:" + name);
-        connect(spin, &QDoubleSpinBox::valueChanged, this, [commit](double v) { commit(v); });
+        connect(spin, &QDoubleSpinBox::valueChanged, this, [this, commit](double v) {
+            if (!updating_) commit(v);
+        });
+        setters_[path] = [spin](const nlohmann::json& v) {
+            const QSignalBlocker block(spin);
+            spin->setValue(v.get<double>());
+        };
         form_->addRow(label, spin);
     } else if (value.is_array() && value.size() == 3 && value[0].is_number()) {
         auto* row = new QWidget;
@@ -71,32 +120,31 @@ void ScenePanel::addField(const QString& label, const std::string& path, const n
             layout->addWidget(spins[std::size_t(c)]);
         }
         for (QDoubleSpinBox* s : spins)
-            connect(s, &QDoubleSpinBox::valueChanged, this, [commit, spins](double) {
-                commit(nlohmann::json::array({spins[0]->value(), spins[1]->value(), spins[2]->value()}));
+            connect(s, &QDoubleSpinBox::valueChanged, this, [this, commit, spins](double) {
+                if (!updating_) commit(nlohmann::json::array({spins[0]->value(), spins[1]->value(), spins[2]->value()}));
             });
+        setters_[path] = [spins](const nlohmann::json& v) {
+            for (std::size_t c = 0; c < 3; ++c) {
+                const QSignalBlocker block(spins[c]);
+                spins[c]->setValue(v[c].get<double>());
+            }
+        };
         form_->addRow(label, row);
     }
 }
 
 void ScenePanel::rebuild() {
+    rebuildQueued_ = false;
     while (form_->rowCount() > 0)
         form_->removeRow(0);
-    const nlohmann::json j = projectToJson(session_.project());
-    auto section = [&](const QString& title) { form_->addRow(new QLabel("<b>" + title.toHtmlEscaped() + "</b>")); };
-    section("camera");
-    for (const char* key : {"position", "target", "fovY"})
-        if (j["camera"].contains(key)) addField(key, std::string("camera.") + key, j["camera"][key]);
-    for (const char* group : {"media", "lights"}) {
-        if (!j.contains(group)) continue;
-        for (const auto& element : j[group]) {
-            const std::string name = element.value("name", "");
-            section(QString::fromStdString(std::string(group) + ": " + name));
-            const std::string prefix = std::string(group) + "[" + name + "].";
-            for (const char* key : {"sigma_s", "sigma_a", "position", "direction", "intensity", "irradiance", "radiance"})
-                if (element.contains(key)) addField(key, prefix + key, element[key]);
-            if (element.contains("phase") && element["phase"].contains("g"))
-                addField("phase g", prefix + "phase.g", element["phase"]["g"]);
-        }
+    setters_.clear();
+    builtPaths_.clear();
+    for (const Field& f : fields()) {
+        builtPaths_.push_back(f.section.toStdString() + "|" + f.path);
+        if (f.path.empty())
+            form_->addRow(new QLabel("<b>" + f.section.toHtmlEscaped() + "</b>"));
+        else
+            addField(f.label, f.path, f.value);
     }
 }
 

@@ -1,11 +1,17 @@
 // The scene panel: the camera, every medium and every light as fields generated from the project's own JSON (numbers
 // and RGB triples), each edit an undoable, validated scene edit (Session::editScene) addressed by the CLI's --set
-// paths. An invalid value is refused with the reason in the panel, and the project stays as it was.
+// paths. An invalid value is refused with the reason in the panel, and the project stays as it was. Edits update the
+// fields in place; only a change of the rows (another project, a light added) rebuilds them, from the event loop.
 #pragma once
 
 #include "session.h"
 
 #include <QWidget>
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
 
 class QFormLayout;
 class QLabel;
@@ -20,6 +26,14 @@ public:
     const QString& lastError() const { return lastError_; }
 
 private:
+    struct Field {
+        QString section;  // a section's title (and no path), or empty for a field
+        QString label;
+        std::string path;  // the --set path
+        nlohmann::json value;
+    };
+    std::vector<Field> fields() const;  // the rows the project gives, in order
+    void refresh();  // the rows' values in place when the rows are the same, else a rebuild from the event loop
     void addField(const QString& label, const std::string& path, const nlohmann::json& value);
 
     Session& session_;
@@ -27,6 +41,9 @@ private:
     QLabel* status_ = nullptr;
     QString lastError_;
     bool updating_ = false;
+    bool rebuildQueued_ = false;
+    std::vector<std::string> builtPaths_;
+    std::map<std::string, std::function<void(const nlohmann::json&)>> setters_;
 };
 
 }  // namespace tyndall::studio

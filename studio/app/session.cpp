@@ -1,8 +1,11 @@
 #include "session.h"
 
 #include "tyndall/error.h"
+#include "tyndall/render.h"
 
 #include <QUndoCommand>
+
+#include <algorithm>
 
 namespace tyndall::studio {
 
@@ -17,15 +20,22 @@ public:
     void undo() override { session_.applyParameter(view_, name_, before_); }
     void redo() override { session_.applyParameter(view_, name_, after_); }
     int id() const override { return 1; }
-    // Dragging a slider is one edit: consecutive changes of the same parameter merge.
+    // Dragging a slider is one edit: consecutive changes of the same number (or colour) merge. Choices (an
+    // enumeration's value, a switch) are steps of their own: undo goes back one choice, not to the first.
     bool mergeWith(const QUndoCommand* other) override {
         const auto* o = dynamic_cast<const SetParameterCommand*>(other);
         if (!o || o->view_ != view_ || o->name_ != name_) return false;
+        if (!continuous(after_) || !continuous(o->after_)) return false;
         after_ = o->after_;
         return true;
     }
 
 private:
+    static bool continuous(const nlohmann::json& v) {
+        if (v.is_array()) return std::all_of(v.begin(), v.end(), [](const nlohmann::json& e) { return e.is_number(); });
+        return v.is_number();
+    }
+
     Session& session_;
     int view_;
     std::string name_;
@@ -132,6 +142,83 @@ bool Session::editScene(const std::vector<std::string>& overrides, const QString
         if (error) *error = QString::fromStdString(e.what());
         return false;
     }
+}
+
+bool Session::editViews(const std::function<void(nlohmann::json& views)>& edit, const QString& text, QString* error) {
+    try {
+        const nlohmann::json before = projectToJson(project_);
+        nlohmann::json after = before;
+        edit(after["views"]);
+        const Project edited = projectFromJson(after, path_.toStdString());
+        for (const View& v : edited.views)  // each view must render: its technique supports its part
+            makeViewJob(edited, path_.toStdString(), v.name);
+        undo_.push(new EditSceneCommand(*this, before, projectToJson(edited), text, -1));
+        return true;
+    } catch (const std::exception& e) {
+        if (error) *error = QString::fromStdString(e.what());
+        return false;
+    }
+}
+
+std::string Session::uniqueViewName(const std::string& stem) const {
+    auto taken = [&](const std::string& name) {
+        return std::any_of(project_.views.begin(), project_.views.end(), [&](const View& v) { return v.name == name; });
+    };
+    if (!taken(stem)) return stem;
+    for (int i = 2;; ++i)
+        if (!taken(stem + " " + std::to_string(i))) return stem + " " + std::to_string(i);
+}
+
+bool Session::addView(const std::string& technique, QString* error) {
+    const std::string name = uniqueViewName(technique);
+    return editViews([&](nlohmann::json& views) { views.push_back({{"name", name}, {"technique", technique}}); },
+                     QString::fromStdString("add view " + name), error);
+}
+
+bool Session::duplicateView(int view, QString* error) {
+    if (view < 0 || view >= int(project_.views.size())) return false;
+    const std::string name = uniqueViewName(project_.views[std::size_t(view)].name + " copy");
+    return editViews(
+        [&](nlohmann::json& views) {
+            nlohmann::json copy = views[std::size_t(view)];
+            copy["name"] = name;
+            views.insert(views.begin() + view + 1, copy);
+        },
+        QString::fromStdString("duplicate view " + project_.views[std::size_t(view)].name), error);
+}
+
+bool Session::removeView(int view, QString* error) {
+    if (view < 0 || view >= int(project_.views.size())) return false;
+    return editViews([&](nlohmann::json& views) { views.erase(views.begin() + view); },
+                     QString::fromStdString("remove view " + project_.views[std::size_t(view)].name), error);
+}
+
+bool Session::renameView(int view, const std::string& name, QString* error) {
+    if (view < 0 || view >= int(project_.views.size())) return false;
+    if (name == project_.views[std::size_t(view)].name) return true;
+    return editViews([&](nlohmann::json& views) { views[std::size_t(view)]["name"] = name; },
+                     QString::fromStdString("rename view " + project_.views[std::size_t(view)].name), error);
+}
+
+bool Session::setTechnique(int view, const std::string& technique, QString* error) {
+    if (view < 0 || view >= int(project_.views.size())) return false;
+    if (technique == project_.views[std::size_t(view)].technique) return true;
+    return editViews(
+        [&](nlohmann::json& views) {
+            views[std::size_t(view)]["technique"] = technique;
+            views[std::size_t(view)]["parameters"] = nlohmann::json::object();
+        },
+        QString::fromStdString("technique of " + project_.views[std::size_t(view)].name), error);
+}
+
+bool Session::setViewPart(int view, const ScenePart& part, QString* error) {
+    if (view < 0 || view >= int(project_.views.size())) return false;
+    return editViews(
+        [&](nlohmann::json& views) {
+            views[std::size_t(view)]["lights"] = part.lights;
+            views[std::size_t(view)]["media"] = part.media;
+        },
+        QString::fromStdString("lights and media of " + project_.views[std::size_t(view)].name), error);
 }
 
 void Session::editProjectJson(const nlohmann::json& json, const QString& text) {

@@ -8,6 +8,8 @@
 #include <QString>
 #include <QUndoStack>
 
+#include <functional>
+
 namespace tyndall::studio {
 
 class Session : public QObject {
@@ -33,6 +35,17 @@ public:
     // --set paths). The result is validated like a loaded file: on failure nothing changes and `error` says why.
     // Edits with the same non-negative mergeId in a row are one undo step (a drag).
     bool editScene(const std::vector<std::string>& overrides, const QString& text, QString* error, int mergeId = -1);
+    // Authoring views, each one undoable edit of the project, validated like a file and by the technique (it must
+    // be able to render the view's part): on failure nothing changes and `error` says why. A new view is named after
+    // its technique (unique); a technique change drops the parameters of the old one. They emit sceneChanged, with
+    // the views' list changed.
+    bool addView(const std::string& technique, QString* error);
+    bool duplicateView(int view, QString* error);
+    bool removeView(int view, QString* error);
+    bool renameView(int view, const std::string& name, QString* error);
+    bool setTechnique(int view, const std::string& technique, QString* error);
+    // The lights and media the view renders (its technique must support each).
+    bool setViewPart(int view, const ScenePart& part, QString* error);
     // An undoable replacement of the whole project by `json` (crash recovery); it must be a valid project.
     void editProjectJson(const nlohmann::json& json, const QString& text);
     void applyProjectJson(const nlohmann::json& json);
@@ -47,6 +60,9 @@ signals:
     void modifiedChanged(bool modified);
 
 private:
+    bool editViews(const std::function<void(nlohmann::json& views)>& edit, const QString& text, QString* error);
+    std::string uniqueViewName(const std::string& stem) const;
+
     Project project_;
     QString path_;
     QUndoStack undo_;
