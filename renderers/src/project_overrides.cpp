@@ -43,6 +43,7 @@ std::vector<PathStep> parsePath(const std::string& path) {
             const std::string inside = path.substr(i + 1, close - i - 1);
             if (inside.empty()) failOverride(path, "empty [] in the path; use [index] or [name]");
             if (allDigits(inside)) {
+                if (inside.size() > 9) failOverride(path, "index [" + clipForMessage(inside) + "] is too large");
                 steps.push_back({PathStep::Type::Index, "", std::stoul(inside)});
             } else {
                 steps.push_back({PathStep::Type::Name, inside});
@@ -68,12 +69,15 @@ std::vector<PathStep> parsePath(const std::string& path) {
 }
 
 // A value is JSON when it parses as JSON, otherwise the text itself: `name=fog` needs no quotes.
-json parseValue(const std::string& text) {
-    try {
+// Checked like a project file (nesting depth, duplicate keys, UTF-8), since the value becomes part of one.
+json parseValue(const std::string& path, const std::string& text) {
+    // accept() builds nothing, so a deeply nested value is refused before any tree exists.
+    if (json::accept(text)) {
+        checkJsonText(text, "", "--set " + path);
         return json::parse(text);
-    } catch (const json::exception&) {
-        return json(text);
     }
+    if (!isValidUtf8(text)) failOverride(path, "the value is not valid UTF-8");
+    return json(text);
 }
 
 std::string describeLocation(const std::string& where) {
@@ -124,7 +128,7 @@ private:
             const auto names = parameterNames(view_);
             if (names && std::find(names->begin(), names->end(), key) == names->end()) {
                 failOverride(
-                    path_, "unknown parameter '" + key + "' in " + describeLocation(where_) + suggestion(key, *names));
+                    path_, "unknown parameter '" + clipForMessage(key) + "' in " + describeLocation(where_) + suggestion(key, *names));
             }
             return {""};
         }
@@ -133,7 +137,7 @@ private:
             if (key == spec.name) return spec;
         }
         failOverride(path_,
-                     "unknown key '" + key + "' in " + describeLocation(where_) + suggestion(key, keyNames(kind)));
+                     "unknown key '" + clipForMessage(key) + "' in " + describeLocation(where_) + suggestion(key, keyNames(kind)));
     }
 
     // Returns false when the key was missing and has been created with the value.
@@ -177,7 +181,7 @@ private:
             names.push_back(element["name"].get<std::string>());
         }
         failOverride(
-            path_, "no element of " + describeLocation(where_) + " is named '" + name + "'" + suggestion(name, names));
+            path_, "no element of " + describeLocation(where_) + " is named '" + clipForMessage(name) + "'" + suggestion(name, names));
     }
 
     json* node_;
@@ -192,7 +196,7 @@ void applyOverride(json& root, const std::string& override) {
     if (equals == std::string::npos) failOverride(override, "expected path=value, e.g. camera.fovY=50");
     const std::string path = trimmed(override.substr(0, equals));
     const std::vector<PathStep> steps = parsePath(path);
-    OverrideWalker(root, path).apply(steps, parseValue(override.substr(equals + 1)));
+    OverrideWalker(root, path).apply(steps, parseValue(path, override.substr(equals + 1)));
 }
 
 }  // namespace
