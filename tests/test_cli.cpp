@@ -181,7 +181,7 @@ TEST(Cli, BadInputExitsWithTwoAndSaysWhy) {
         writeFile(dir / "malformed.json", "{\n  \"tyndall\": 1,\n  \"camera\": {\n    \"fovY\": ,\n  }\n}\n");
     const Case cases[] = {
         {"render '" + project + "' --reference --size 1000000x1000000 -o '" + (dir / "huge.exr").string() + "'",
-         "camera"},
+         "--size"},
         {"render '" + project + "' --reference --spp 1 -o '" + (dir / "missing/ref.exr").string() + "'",
          "does not exist"},
         {"render '" + project + "' --reference --spp 1 -o '" + (dir / "ref.tiff").string() + "'", ".exr or .png"},
@@ -386,7 +386,7 @@ TEST(Cli, SetAppendsAnArrayElement) {
     } bad[] = {
         {"'lights[+].intensity=1'", "[+] appends the value as a whole new element"},
         {"'camera[+]=1'", "is not an array"},
-        {"'lights[99999999999999999999999].intensity=1'", "out of range"},
+        {"'lights[99999999999999999999999].intensity=1'", "is too large"},
     };
     for (const auto& b : bad) {
         CliRun e = tyndall("validate '" + project + "' --set " + b.set);

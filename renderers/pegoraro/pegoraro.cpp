@@ -164,6 +164,11 @@ std::string formatDouble(double x) {
 
 }  // namespace
 
+void PegoraroTechnique::check(const RenderRequest& request) const {
+    requireSupported(request.scene);
+    (void)pegoraro::prepareScene(request.scene, pegoraro::settingsFrom(request.params), request.projectDir);
+}
+
 RenderResult PegoraroTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();

@@ -30,6 +30,7 @@ public:
     Support supports(const Material&) const override { return Support::yes(); }
 
     RenderResult render(const RenderRequest& request, const RenderCallbacks& callbacks) override;
+    void check(const RenderRequest& request) const override;
 
     // The most polynomial terms a light distribution may have (a spot exponent of at most 32).
     static constexpr int kMaxLightTerms = 33;

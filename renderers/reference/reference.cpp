@@ -111,6 +111,12 @@ Image resolve(const Accumulator& acc, int spp) {
 
 }  // namespace
 
+void ReferenceTechnique::check(const RenderRequest& request) const {
+    requireSupported(request.scene);
+    (void)optionsFrom(request.params);
+    (void)reference::prepareScene(request.scene, request.projectDir);
+}
+
 RenderResult ReferenceTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();

@@ -20,6 +20,7 @@ public:
     Support supports(const Material&) const override { return Support::yes(); }
 
     RenderResult render(const RenderRequest& request, const RenderCallbacks& callbacks) override;
+    void check(const RenderRequest& request) const override;
 
     static constexpr int kDefaultSpp = 64;
 };

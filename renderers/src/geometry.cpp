@@ -243,15 +243,26 @@ TriangleMesh toWorld(const LocalMesh& local, const Mesh& mesh) {
     const glm::dmat4 worldFromLocal = mesh.transform.worldFromLocal();
     const glm::dmat3 linear(worldFromLocal);
     const double determinant = glm::determinant(linear);
-    if (determinant == 0.0 || !std::isfinite(determinant)) {
+    if (!std::isfinite(determinant)) {
+        throw InputError(concat(meshLabel(mesh), ": the transform's scale puts vertices beyond the limit of +-",
+                                kMaxWorldCoordinate, " m for world coordinates"));
+    }
+    if (determinant == 0.0) {
         throw InputError(meshLabel(mesh) + ": the transform is singular (every scale component must be non-zero)");
     }
     const glm::dmat3 normalFromLocal = glm::transpose(glm::inverse(linear));
 
     TriangleMesh world;
     world.positions.reserve(local.positions.size());
-    for (const Vec3& p : local.positions)
-        world.positions.emplace_back(Vec3(worldFromLocal * glm::dvec4(p, 1.0)));
+    for (const Vec3& p : local.positions) {
+        const Vec3 q(worldFromLocal * glm::dvec4(p, 1.0));
+        if (!isFinite(q) || maxAbs(q) > kMaxWorldCoordinate) {
+            throw InputError(concat(meshLabel(mesh), ": a vertex lands at ", q.x, ", ", q.y, ", ", q.z,
+                                    " m, beyond the limit of +-", kMaxWorldCoordinate,
+                                    " m for world coordinates (check the transform's scale and translate)"));
+        }
+        world.positions.emplace_back(q);
+    }
     world.normals.reserve(local.normals.size());
     for (const Vec3& n : local.normals)
         world.normals.emplace_back(glm::normalize(normalFromLocal * n));
@@ -376,6 +387,9 @@ TriangleMesh buildMesh(const Mesh& mesh, const std::string& projectDir) {
 }
 
 ConvexPolyhedron makeConvexPolyhedron(const std::vector<HalfSpace>& planes) {
+    if (planes.size() > kMaxPolyhedronPlanes) {
+        throw InputError(concat("a polyhedron has at most ", kMaxPolyhedronPlanes, " planes, got ", planes.size()));
+    }
     ConvexPolyhedron result;
     for (std::size_t i = 0; i < planes.size(); ++i) {
         const HalfSpace& plane = planes[i];
@@ -486,7 +500,11 @@ std::string polygonProblem(const std::vector<Vec3>& vertices) {
         centroid += p;
     }
     centroid /= static_cast<double>(n);
+    if (maxAbs(lo) > kMaxWorldCoordinate || maxAbs(hi) > kMaxWorldCoordinate)
+        return concat("a vertex is beyond the limit of +-", kMaxWorldCoordinate, " m for world coordinates");
     const double size = glm::distance(lo, hi);  // the bounding box's diagonal sets every tolerance
+    if (!(size >= kMinPolygonSize))
+        return concat("the polygon is ", size, " m across; the smallest allowed is ", kMinPolygonSize, " m");
 
     for (std::size_t i = 0; i < n; ++i) {
         const std::size_t j = (i + 1) % n;

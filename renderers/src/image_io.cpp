@@ -1,7 +1,9 @@
 #include "tyndall/image_io.h"
 
 #include "tyndall/error.h"
+#include "tyndall/output.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -34,6 +36,11 @@ constexpr const char* kChannelOrderAttribute = "tyndallChannelOrder";
 
 enum class Format { Exr, Png };
 
+// What readImage accepts: an image header decides how much memory is allocated, so it is bounded: 2^28 values
+// (pixels x channels, 1 GiB of floats; a 8192 x 8192 render with variance channels needs 2^26 x 6) and 64 channels.
+constexpr std::int64_t kMaxReadValues = std::int64_t(1) << 28;
+constexpr int kMaxReadChannels = 64;
+
 std::string lowercase(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return s;
@@ -61,42 +68,6 @@ Format formatOf(const std::string& path) {
     throw InputError(InputLocation{.file = path}, "unsupported image extension \"" +
                                                       fs::path(path).extension().string() + "\"; allowed: .exr, .png");
 }
-
-// "dir/out.exr" -> "dir/out.tmp1a2b3c4d.exr": same directory (so rename is atomic), real extension last (so OIIO picks
-// the format from it), and a random part so that concurrent writers do not share a temporary.
-fs::path temporaryPathFor(const fs::path& target) {
-    static std::atomic<std::uint64_t> counter{0};
-    std::random_device device;
-    for (int attempt = 0; attempt < 16; ++attempt) {
-        const std::uint64_t salt = (static_cast<std::uint64_t>(device()) << 32) ^ device() ^ counter.fetch_add(1);
-        std::ostringstream name;
-        name << target.stem().string() << ".tmp" << std::hex << salt << target.extension().string();
-        fs::path candidate = target.parent_path() / name.str();
-        std::error_code ec;
-        if (!fs::exists(candidate, ec)) return candidate;
-    }
-    throw writeError(target.string(), "could not choose a temporary file name");
-}
-
-// Removes the temporary file unless the write was committed by renaming it.
-class TemporaryFile {
-public:
-    explicit TemporaryFile(fs::path path) : path_(std::move(path)) {}
-    TemporaryFile(const TemporaryFile&) = delete;
-    TemporaryFile& operator=(const TemporaryFile&) = delete;
-    ~TemporaryFile() {
-        if (!committed_) {
-            std::error_code ec;
-            fs::remove(path_, ec);
-        }
-    }
-    const fs::path& path() const { return path_; }
-    void commit() { committed_ = true; }
-
-private:
-    fs::path path_;
-    bool committed_ = false;
-};
 
 OIIO::ImageSpec exrSpec(const Image& image) {
     OIIO::ImageSpec spec(image.width(), image.height(), image.channelCount(), OIIO::TypeDesc::FLOAT);
@@ -152,18 +123,10 @@ std::vector<int> channelPermutation(const std::vector<std::string>& read, const 
 
 }  // namespace
 
-void writeImage(const Image& image, const std::string& path, double exposure, Tonemap op) {
+std::string encodeImage(const Image& image, const std::string& path, double exposure, Tonemap op) {
     const Format format = formatOf(path);
     if (image.empty() || image.channelCount() == 0) throw writeError(path, "the image is empty");
 
-    const fs::path target(path);
-    const fs::path directory = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    std::error_code ec;
-    if (!fs::is_directory(directory, ec)) {
-        throw writeError(path, "directory \"" + directory.string() + "\" does not exist");
-    }
-
-    // Build the pixels before creating any file, so that bad input leaves nothing behind.
     OIIO::ImageSpec spec;
     std::vector<std::uint8_t> bytes;
     if (format == Format::Exr) {
@@ -174,24 +137,31 @@ void writeImage(const Image& image, const std::string& path, double exposure, To
         spec.attribute("oiio:ColorSpace", "sRGB");
     }
 
-    TemporaryFile temporary(temporaryPathFor(target));
-    {
-        std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(temporary.path().string());
-        if (!out) throw writeError(path, oiioError(""));
-        if (!out->open(temporary.path().string(), spec)) throw writeError(path, oiioError(out->geterror()));
-        const bool written = format == Format::Exr ? out->write_image(OIIO::TypeDesc::FLOAT, image.data())
-                                                   : out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
-        if (!written) {
-            const std::string reason = oiioError(out->geterror());
-            out->close();
-            throw writeError(path, reason);
-        }
-        if (!out->close()) throw writeError(path, oiioError(out->geterror()));
+    // Encoded in memory (OIIO's IOProxy), so that the file itself is written by writeFileAtomically with every step
+    // checked and synced.
+    std::vector<unsigned char> encoded;
+    OIIO::Filesystem::IOVecOutput proxy(encoded);
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
+    if (!out) throw OutputError("cannot encode '" + path + "': " + oiioError(""));
+    if (!out->supports("ioproxy") || !out->set_ioproxy(&proxy)) {
+        throw OutputError("cannot encode '" + path + "': OpenImageIO's writer cannot write to memory");
     }
+    if (!out->open(path, spec)) throw OutputError("cannot encode '" + path + "': " + oiioError(out->geterror()));
+    const bool written = format == Format::Exr ? out->write_image(OIIO::TypeDesc::FLOAT, image.data())
+                                               : out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+    const std::string reason = written ? std::string() : oiioError(out->geterror());
+    if (!out->close() && written) throw OutputError("cannot encode '" + path + "': " + oiioError(out->geterror()));
+    if (!written) throw OutputError("cannot encode '" + path + "': " + reason);
+    return std::string(encoded.begin(), encoded.end());
+}
 
-    fs::rename(temporary.path(), target, ec);
-    if (ec) throw writeError(path, "renaming the temporary file failed: " + ec.message());
-    temporary.commit();
+void writeImage(const Image& image, const std::string& path, double exposure, Tonemap op) {
+    const fs::path directory = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(directory, ec)) {
+        throw writeError(path, "directory \"" + directory.string() + "\" does not exist");
+    }
+    writeFileAtomically(path, encodeImage(image, path, exposure, op));
 }
 
 Image readImage(const std::string& path) {
@@ -205,6 +175,13 @@ Image readImage(const std::string& path) {
     if (spec.deep) throw readError(path, "deep images are not supported");
     if (spec.depth > 1) throw readError(path, "volume images are not supported");
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw readError(path, "the image is empty");
+    if (spec.nchannels > kMaxReadChannels ||
+        static_cast<std::int64_t>(spec.width) * spec.height * spec.nchannels > kMaxReadValues) {
+        throw readError(path, std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels of " +
+                                  std::to_string(spec.nchannels) + " channels; at most " +
+                                  std::to_string(kMaxReadValues) + " values (pixels x channels) and " +
+                                  std::to_string(kMaxReadChannels) + " channels are read");
+    }
 
     std::vector<std::string> names = spec.channelnames;
     names.resize(spec.nchannels);

@@ -2,10 +2,17 @@
 
 #include "tyndall/params.h"
 
+#include <clocale>
+#include <locale.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
+#include <unordered_set>
 
 namespace tyndall {
 
@@ -17,6 +24,14 @@ std::string jsonTypeName(const nlohmann::json& value) {
     if (value.is_number_float()) return "number";
     if (value.is_number()) return "integer";
     return value.type_name();
+}
+
+// The largest prefix length <= limit that does not cut a UTF-8 sequence.
+std::size_t utf8Boundary(const std::string& text, std::size_t limit) {
+    if (text.size() <= limit) return text.size();
+    std::size_t end = limit;
+    while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
+    return end;
 }
 
 bool isIntegral(double value) {
@@ -37,9 +52,170 @@ std::string formatVec3(const Vec3& v) {
 
 std::string describeJson(const nlohmann::json& value) {
     if (value.is_null()) return "null";
-    std::string text = value.dump();
-    if (text.size() > kMaxDescribedLength) text = text.substr(0, kMaxDescribedLength) + "...";
+    // A long string or array is not serialised whole just to be cut.
+    if (value.is_string()) {
+        const std::string& s = value.get_ref<const std::string&>();
+        const std::size_t end = utf8Boundary(s, kMaxDescribedLength);
+        std::string text = nlohmann::json(s.substr(0, end)).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+        if (end < s.size()) text += "... (" + std::to_string(s.size()) + " bytes)";
+        return "string " + text;
+    }
+    if (value.is_structured() && value.size() > kMaxDescribedLength) {
+        return jsonTypeName(value) + " of " + std::to_string(value.size()) + (value.is_array() ? " elements" : " keys");
+    }
+    std::string text = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    if (text.size() > kMaxDescribedLength) text = clipForMessage(text, kMaxDescribedLength);
     return jsonTypeName(value) + " " + text;
+}
+
+std::string clipForMessage(const std::string& text, std::size_t limit) {
+    if (text.size() <= limit) return text;
+    return text.substr(0, utf8Boundary(text, limit)) + "... (" + std::to_string(text.size()) + " bytes)";
+}
+
+namespace {
+
+// Length of the valid UTF-8 sequence at text[i], or 0 when it is not valid (overlong forms, surrogates and code
+// points above U+10FFFF are invalid).
+std::size_t utf8SequenceLength(const std::string& text, std::size_t i) {
+    const auto byte = [&](std::size_t k) { return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u; };
+    const unsigned c = byte(i);
+    if (c < 0x80) return 1;
+    const auto continuation = [&](std::size_t k, unsigned lo, unsigned hi) { return byte(k) >= lo && byte(k) <= hi; };
+    if (c >= 0xC2 && c <= 0xDF) return continuation(i + 1, 0x80, 0xBF) ? 2 : 0;
+    if (c >= 0xE0 && c <= 0xEF) {
+        const unsigned lo = c == 0xE0 ? 0xA0 : 0x80, hi = c == 0xED ? 0x9F : 0xBF;
+        return continuation(i + 1, lo, hi) && continuation(i + 2, 0x80, 0xBF) ? 3 : 0;
+    }
+    if (c >= 0xF0 && c <= 0xF4) {
+        const unsigned lo = c == 0xF0 ? 0x90 : 0x80, hi = c == 0xF4 ? 0x8F : 0xBF;
+        return continuation(i + 1, lo, hi) && continuation(i + 2, 0x80, 0xBF) && continuation(i + 3, 0x80, 0xBF) ? 4
+                                                                                                                  : 0;
+    }
+    return 0;
+}
+
+// One open array or object while scanning.
+struct Level {
+    bool object = false;
+    bool expectKey = true;  // objects: the next string is a key
+    std::size_t index = 0;  // arrays: the element being read
+    std::string key;        // objects: the key being read
+    std::unordered_set<std::string> keys;
+};
+
+std::string fieldPath(const std::string& prefix, const std::vector<Level>& stack) {
+    std::string path = prefix;
+    for (const Level& level : stack) {
+        if (level.object) {
+            if (level.key.empty() && level.expectKey) break;
+            path += (path.empty() ? "" : ".") + clipForMessage(level.key);
+        } else {
+            path += "[" + std::to_string(level.index) + "]";
+        }
+    }
+    return path;
+}
+
+double parseCNumber(const std::string& token) {
+    static const locale_t cLocale = ::newlocale(LC_ALL_MASK, "C", locale_t(0));
+    return ::strtod_l(token.c_str(), nullptr, cLocale);
+}
+
+}  // namespace
+
+bool isValidUtf8(const std::string& text) {
+    for (std::size_t i = 0; i < text.size();) {
+        const std::size_t length = utf8SequenceLength(text, i);
+        if (length == 0) return false;
+        i += length;
+    }
+    return true;
+}
+
+void checkJsonText(const std::string& text, const std::string& file, const std::string& fieldPrefix) {
+    std::vector<Level> stack;
+    int line = 1, column = 1;
+    const auto fail = [&](const std::string& message) {
+        throw InputError(InputLocation{.file = file, .line = line, .column = column, .field = fieldPath(fieldPrefix, stack)},
+                         message);
+    };
+    const auto advance = [&](std::size_t from, std::size_t to) {
+        for (std::size_t k = from; k < to; ++k) {
+            if (text[k] == '\n') {
+                ++line;
+                column = 1;
+            } else if ((static_cast<unsigned char>(text[k]) & 0xC0) != 0x80) {
+                ++column;
+            }
+        }
+    };
+    std::size_t i = 0;
+    while (i < text.size()) {
+        const char c = text[i];
+        std::size_t next = i + 1;
+        if (c == '\0') fail("contains a NUL byte; a project file is UTF-8 text");
+        if (utf8SequenceLength(text, i) == 0) fail("is not valid UTF-8 (byte 0x" + [&] {
+            char hex[3];
+            std::snprintf(hex, sizeof hex, "%02X", static_cast<unsigned char>(c));
+            return std::string(hex);
+        }() + ")");
+        if (c == '"') {
+            // A string: find its end; keys are remembered (without decoding escapes) to find duplicates.
+            next = i + 1;
+            while (next < text.size() && text[next] != '"') {
+                if (text[next] == '\0') {
+                    advance(i, next);
+                    i = next;
+                    fail("contains a NUL byte; a project file is UTF-8 text");
+                }
+                const std::size_t length = utf8SequenceLength(text, next);
+                if (length == 0) {
+                    advance(i, next);
+                    i = next;
+                    fail("is not valid UTF-8");
+                }
+                next += text[next] == '\\' ? 2 : length;
+            }
+            if (next >= text.size()) return;  // unterminated: the parser reports it
+            ++next;
+            if (!stack.empty() && stack.back().object && stack.back().expectKey) {
+                Level& level = stack.back();
+                std::string key = text.substr(i + 1, next - i - 2);
+                level.expectKey = false;
+                if (!level.keys.insert(key).second) {
+                    level.key = key;
+                    fail("duplicate key '" + clipForMessage(key) + "' (JSON keys must be unique within an object)");
+                }
+                level.key = std::move(key);
+            }
+        } else if (c == '[' || c == '{') {
+            if (stack.size() >= static_cast<std::size_t>(kMaxJsonDepth)) {
+                fail("nested deeper than " + std::to_string(kMaxJsonDepth) + " levels of arrays and objects (the limit)");
+            }
+            stack.push_back(Level{.object = c == '{'});
+        } else if (c == ']' || c == '}') {
+            if (stack.empty()) return;  // unbalanced: the parser reports it
+            stack.pop_back();
+        } else if (c == ',') {
+            if (!stack.empty()) {
+                Level& level = stack.back();
+                if (level.object) {
+                    level.expectKey = true;
+                    level.key.clear();
+                } else {
+                    ++level.index;
+                }
+            }
+        } else if (c == '-' || (c >= '0' && c <= '9')) {
+            while (next < text.size() && std::strchr("+-.eE0123456789", text[next]) != nullptr && text[next] != '\0')
+                ++next;
+            const std::string token = text.substr(i, next - i);
+            if (!std::isfinite(parseCNumber(token))) fail("the number " + clipForMessage(token) + " is too large for a double");
+        }
+        advance(i, next);
+        i = next;
+    }
 }
 
 const nlohmann::json& JsonField::json() const {
@@ -72,7 +248,7 @@ void JsonField::expectObject(const std::vector<std::string>& known) const {
     for (const auto& [key, value] : value_->items()) {
         if (std::find(known.begin(), known.end(), key) != known.end()) continue;
         const std::string nearest = nearestName(key, known);
-        std::string message = "unknown key '" + key + "'; ";
+        std::string message = "unknown key '" + clipForMessage(key) + "'; ";
         if (!nearest.empty()) {
             message += "did you mean '" + nearest + "'?";
         } else {

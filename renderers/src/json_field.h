@@ -19,6 +19,21 @@ std::string formatNumber(double value);
 std::string formatVec3(const Vec3& v);
 // A JSON value for an error message: its type and (truncated) text, e.g. `string "nan"`.
 std::string describeJson(const nlohmann::json& value);
+// User text for an error message, cut to `limit` bytes (at a UTF-8 boundary) with the full length appended, so that a
+// 10 MB value does not become a 10 MB message.
+std::string clipForMessage(const std::string& text, std::size_t limit = 60);
+
+// Nesting deeper than this is refused before parsing (project files nest about 6 levels), so that no recursive walk
+// over a document (nlohmann's dump, comparison, our readers) can exhaust the stack.
+inline constexpr int kMaxJsonDepth = 64;
+
+// Checks JSON text for what nlohmann's parser accepts silently or reports without a position: nesting deeper than
+// kMaxJsonDepth, NUL bytes (the parser stops at the first one and ignores the rest), duplicate keys in an object (the
+// parser keeps the last), numbers too large for a double and invalid UTF-8. Throws an InputError with the line,
+// column and field path of the first problem; `fieldPrefix` is prepended to the path (e.g. "--set camera"). Text that
+// is not JSON at all is left to the parser.
+bool isValidUtf8(const std::string& text);
+void checkJsonText(const std::string& text, const std::string& file, const std::string& fieldPrefix = "");
 
 class JsonField {
 public:

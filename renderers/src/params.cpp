@@ -172,7 +172,7 @@ void ParamSet::set(const std::string& name, const ParamValue& value) {
         for (const ParamInfo& i : infos_)
             known.push_back(i.name);
         const std::string nearest = nearestName(name, known);
-        std::string message = "unknown parameter '" + name + "'";
+        std::string message = "unknown parameter '" + clipForMessage(name) + "'";
         message += nearest.empty() ? "; known parameters: " + joined(known) : "; did you mean '" + nearest + "'?";
         throw InputError(InputLocation{.field = name}, message);
     }

@@ -4,6 +4,7 @@
 
 #include "project_internal.h"
 
+#include "tyndall/output.h"
 #include "tyndall/technique.h"
 
 #include <fcntl.h>
@@ -54,6 +55,7 @@ std::string parseErrorMessage(const json::parse_error& e) {
 }
 
 json parseJsonText(const std::string& text, const std::string& file) {
+    checkJsonText(text, file);
     try {
         return json::parse(text);
     } catch (const json::parse_error& e) {
@@ -69,62 +71,13 @@ std::string errnoText(int error) {
     return std::error_code(error, std::generic_category()).message();
 }
 
-// A temporary name in the target's folder, unique enough for concurrent saves (O_EXCL settles any collision).
-std::string temporaryName(const std::string& path, int attempt) {
-    static std::atomic<unsigned> counter{0};
-    const auto now = static_cast<unsigned long long>(std::chrono::steady_clock::now().time_since_epoch().count());
-    const unsigned long long mix = now * 0x9E3779B97F4A7C15ull ^ (static_cast<unsigned long long>(::getpid()) << 20) ^
-                                   (counter++ * 0x85EBCA6Bull) ^ static_cast<unsigned long long>(attempt);
-    char suffix[16];
-    std::snprintf(suffix, sizeof(suffix), "%06llx", mix & 0xFFFFFFull);
-    return path + ".tmp-" + suffix;
-}
-
-// Writes the file to a temporary in the same folder, flushes it to disk and renames it over `path`, so that readers
-// see either the old file or the new one. The temporary is removed on any failure.
-void writeFileAtomically(const std::string& path, const std::string& text) {
-    const auto fail = [&](const std::string& what, int error) {
-        throw InputError(InputLocation{.file = path}, "cannot save: " + what + ": " + errnoText(error));
-    };
-    std::string temporary;
-    int fd = -1;
-    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-        temporary = temporaryName(path, attempt);
-        fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);  // the umask applies
-        if (fd < 0 && errno != EEXIST) break;
-    }
-    if (fd < 0) fail("cannot create a temporary file next to it", errno);
-
-    const auto abandon = [&](const std::string& what) {
-        const int error = errno;
-        if (fd >= 0) ::close(fd);
-        ::unlink(temporary.c_str());
-        fail(what, error);
-    };
-    struct stat existing {};
-    if (::stat(path.c_str(), &existing) == 0 && S_ISREG(existing.st_mode)) ::fchmod(fd, existing.st_mode & 07777);
-    for (std::size_t written = 0; written < text.size();) {
-        const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) abandon("write failed");
-        written += static_cast<std::size_t>(n);
-    }
-    if (::fsync(fd) != 0) abandon("fsync failed");
-    const int closed = ::close(fd);
-    fd = -1;
-    if (closed != 0) abandon("close failed");
-    if (::rename(temporary.c_str(), path.c_str()) != 0) abandon("rename failed");
-
-    // Make the rename itself durable; a failure here leaves a complete file, so it is not reported.
-    const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-    const int dir = ::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dir >= 0) {
-        ::fsync(dir);
-        ::close(dir);
-    }
-}
-
 std::string readFile(const std::string& path) {
+    std::error_code error;
+    const auto status = std::filesystem::status(path, error);
+    if (std::filesystem::is_directory(status))
+        throw InputError(InputLocation{.file = path}, "is a directory, not a project file");
+    if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+        throw InputError(InputLocation{.file = path}, "is not a regular file (a device, pipe or socket), not a project file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(InputLocation{.file = path}, "cannot open the project file: " + errnoText(errno));
     std::ostringstream text;

@@ -48,10 +48,10 @@ std::vector<PathStep> parsePath(const std::string& path) {
                     failOverride(path, "[+] appends the value as a whole new element, so it must end the path");
                 steps.push_back({PathStep::Type::Append});
             } else if (allDigits(inside)) {
-                // Any index past this many digits is out of range of every array; it is reported as such below.
+                // Leading zeros aside, more than nine digits exceed any array a project can hold.
                 const std::string digits = inside.substr(std::min(inside.find_first_not_of('0'), inside.size() - 1));
-                const std::size_t index = digits.size() > 9 ? std::size_t(-1) : std::stoul(digits);
-                steps.push_back({PathStep::Type::Index, "", index});
+                if (digits.size() > 9) failOverride(path, "index [" + clipForMessage(inside) + "] is too large");
+                steps.push_back({PathStep::Type::Index, "", std::stoul(digits)});
             } else {
                 steps.push_back({PathStep::Type::Name, inside});
             }
@@ -76,12 +76,15 @@ std::vector<PathStep> parsePath(const std::string& path) {
 }
 
 // A value is JSON when it parses as JSON, otherwise the text itself: `name=fog` needs no quotes.
-json parseValue(const std::string& text) {
-    try {
+// Checked like a project file (nesting depth, duplicate keys, UTF-8), since the value becomes part of one.
+json parseValue(const std::string& path, const std::string& text) {
+    // accept() builds nothing, so a deeply nested value is refused before any tree exists.
+    if (json::accept(text)) {
+        checkJsonText(text, "", "--set " + path);
         return json::parse(text);
-    } catch (const json::exception&) {
-        return json(text);
     }
+    if (!isValidUtf8(text)) failOverride(path, "the value is not valid UTF-8");
+    return json(text);
 }
 
 std::string describeLocation(const std::string& where) {
@@ -138,7 +141,7 @@ private:
             const auto names = parameterNames(view_);
             if (names && std::find(names->begin(), names->end(), key) == names->end()) {
                 failOverride(
-                    path_, "unknown parameter '" + key + "' in " + describeLocation(where_) + suggestion(key, *names));
+                    path_, "unknown parameter '" + clipForMessage(key) + "' in " + describeLocation(where_) + suggestion(key, *names));
             }
             return {""};
         }
@@ -147,7 +150,7 @@ private:
             if (key == spec.name) return spec;
         }
         failOverride(path_,
-                     "unknown key '" + key + "' in " + describeLocation(where_) + suggestion(key, keyNames(kind)));
+                     "unknown key '" + clipForMessage(key) + "' in " + describeLocation(where_) + suggestion(key, keyNames(kind)));
     }
 
     // Returns false when the key was missing and has been created with the value. `appends`: the next step is [+],
@@ -179,9 +182,8 @@ private:
         if (!node_->is_array()) failOverride(path_, describeLocation(where_) + " is not an array");
         const std::size_t index = step.type == PathStep::Type::Index ? step.index : indexOfName(step.key);
         if (index >= node_->size()) {
-            const std::string shown = index == std::size_t(-1) ? "past 999999999" : std::to_string(index);
-            failOverride(path_, "index " + shown + " is out of range: " + describeLocation(where_) + " has " +
-                                    std::to_string(node_->size()) + " elements");
+            failOverride(path_, "index " + std::to_string(index) + " is out of range: " + describeLocation(where_) +
+                                    " has " + std::to_string(node_->size()) + " elements");
         }
         node_ = &(*node_)[index];
         where_ += "[" + std::to_string(index) + "]";
@@ -196,7 +198,7 @@ private:
             names.push_back(element["name"].get<std::string>());
         }
         failOverride(
-            path_, "no element of " + describeLocation(where_) + " is named '" + name + "'" + suggestion(name, names));
+            path_, "no element of " + describeLocation(where_) + " is named '" + clipForMessage(name) + "'" + suggestion(name, names));
     }
 
     json* node_;
@@ -211,7 +213,7 @@ void applyOverride(json& root, const std::string& override) {
     if (equals == std::string::npos) failOverride(override, "expected path=value, e.g. camera.fovY=50");
     const std::string path = trimmed(override.substr(0, equals));
     const std::vector<PathStep> steps = parsePath(path);
-    OverrideWalker(root, path).apply(steps, parseValue(override.substr(equals + 1)));
+    OverrideWalker(root, path).apply(steps, parseValue(path, override.substr(equals + 1)));
 }
 
 }  // namespace

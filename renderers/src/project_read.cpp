@@ -21,11 +21,13 @@ constexpr double kUnitLengthTolerance = 1e-12;
 constexpr std::size_t kMaxPolynomialTerms = 32;
 constexpr int kMaxSpotExponent = 256;
 constexpr int kMaxImageSize = 16384;
-constexpr int kMaxParticleCount = 1'000'000;
+constexpr int kMaxParticleCount = 1'000'000;         // per generator
+constexpr std::size_t kMaxTotalParticles = 2'000'000;  // in all particle media together
 constexpr double kMaxExposure = 20.0;  // EV stops either way
 constexpr double kMinRoughness = 1e-3;
 constexpr double kNonNegativeTolerance = 1e-9;  // relative to the sum of |coefficients|
 constexpr double kParallelTolerance = 1e-6;     // |sin| of the angle between two directions
+constexpr double kMinCameraDistance = 1e-6;     // m, and relative to the camera's distance from the origin
 
 struct ReadContext {
     std::string file;
@@ -64,6 +66,21 @@ Vec3 readDirection(const JsonField& field, const Vec3& fallback) {
     return v / lengthToNormalise(field, v);
 }
 
+// A position in world space, within +-kMaxWorldCoordinate (geometry.h) so that every renderer stays in finite numbers.
+void requireInWorld(const JsonField& field, const Vec3& p, double radius = 0.0) {
+    const double extent = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) + radius;
+    if (!(extent <= kMaxWorldCoordinate)) {
+        field.fail("reaches " + formatNumber(extent) + " m from the origin along an axis; world coordinates are limited to +-" +
+                   formatNumber(kMaxWorldCoordinate) + " m");
+    }
+}
+
+Vec3 readPoint(const JsonField& field, const Vec3& fallback) {
+    const Vec3 p = field.vec3Or(fallback);
+    requireInWorld(field, p);
+    return p;
+}
+
 std::vector<std::string> readStringList(const JsonField& field) {
     std::vector<std::string> strings;
     forEachElement(field, [&](const JsonField& element) { strings.push_back(element.string()); });
@@ -78,7 +95,7 @@ public:
     void add(const JsonField& object, const std::string& name) {
         const auto [it, inserted] = paths_.emplace(name, object.path());
         if (!inserted) {
-            object["name"].fail(std::string("duplicate ") + singular_ + " name '" + name + "' (also " + it->second +
+            object["name"].fail(std::string("duplicate ") + singular_ + " name '" + clipForMessage(name) + "' (also " + it->second +
                                 ")");
         }
         names_.push_back(name);
@@ -97,7 +114,7 @@ private:
 
 void requireKnownName(const JsonField& field, const std::string& name, const UniqueNames& known) {
     if (known.contains(name)) return;
-    std::string message = std::string("unknown ") + known.singular() + " '" + name + "'";
+    std::string message = std::string("unknown ") + known.singular() + " '" + clipForMessage(name) + "'";
     const std::string nearest = nearestName(name, known.names());
     if (!nearest.empty()) {
         message += "; did you mean '" + nearest + "'?";
@@ -208,9 +225,10 @@ OrientedBox readBox(const JsonField& f) {
     OrientedBox box;
     if (!f.present()) return box;
     f.expectObject(keyNames(K::Box));
-    box.centre = f["centre"].vec3Or(box.centre);
+    box.centre = readPoint(f["centre"], box.centre);
     box.size = f["size"].vec3Or(box.size);
     requireEachAbove(f["size"], box.size, 0.0);
+    requireInWorld(f["size"], box.centre, 0.5 * glm::length(box.size));  // the box's corners, however rotated
     box.rotate = f["rotate"].vec3Or(box.rotate);
     return box;
 }
@@ -286,9 +304,10 @@ glm::dquat readOrientation(const JsonField& field, const glm::dquat& fallback) {
 Particle readParticle(const JsonField& f) {
     f.expectObject(keyNames(K::Particle));
     Particle p;
-    p.centre = f["centre"].vec3Or(p.centre);
+    p.centre = readPoint(f["centre"], p.centre);
     p.scale = f["scale"].numberOr(p.scale);
     requireAbove(f["scale"], p.scale, 0.0);
+    requireInWorld(f["scale"], p.centre, p.scale);
     p.orientation = readOrientation(f["orientation"], p.orientation);
     p.extinctionMultiplier = f["extinctionMultiplier"].numberOr(p.extinctionMultiplier);
     requireAtLeast(f["extinctionMultiplier"], p.extinctionMultiplier, 0.0);
@@ -305,6 +324,7 @@ ParticleGenerator readGenerator(const JsonField& f) {
     g.region = readBox(f["region"]);
     g.scale = f["scale"].numberOr(g.scale);
     requireAbove(f["scale"], g.scale, 0.0);
+    requireInWorld(f["scale"], g.region.centre, 0.5 * glm::length(g.region.size) + g.scale);
     g.falloff = f["falloff"].numberOr(g.falloff);
     requireAbove(f["falloff"], g.falloff, 0.0);
     g.multiplierMin = f["multiplierMin"].numberOr(g.multiplierMin);
@@ -366,7 +386,7 @@ void requireValidPolygon(const JsonField& field, const std::vector<Vec3>& vertic
 PointLight readPointLight(const JsonField& f) {
     PointLight light;
     light.name = readName(f);
-    light.position = f["position"].vec3Or(light.position);
+    light.position = readPoint(f["position"], light.position);
     light.intensity = f["intensity"].rgbOr(light.intensity);
     requireEachAtLeast(f["intensity"], light.intensity, 0.0);
     light.distribution = readDistribution(f["distribution"]);
@@ -461,7 +481,7 @@ Transform readTransform(const JsonField& f) {
     Transform t;
     if (!f.present()) return t;
     f.expectObject(keyNames(K::Transform));
-    t.translate = f["translate"].vec3Or(t.translate);
+    t.translate = readPoint(f["translate"], t.translate);
     t.rotate = f["rotate"].vec3Or(t.rotate);
     t.scale = f["scale"].vec3Or(t.scale);
     if (t.scale.x == 0.0 || t.scale.y == 0.0 || t.scale.z == 0.0) {
@@ -497,7 +517,7 @@ Mesh readMesh(const JsonField& f, const ReadContext& context) {
 // Camera, views and reference
 
 void requireUpAcrossView(const JsonField& field, const Vec3& up, const Vec3& view) {
-    if (glm::length(glm::cross(glm::normalize(up), glm::normalize(view))) <= kParallelTolerance) {
+    if (!(glm::length(glm::cross(glm::normalize(up), glm::normalize(view))) > kParallelTolerance)) {
         field.fail("must not be parallel to the view direction (target - position = " + formatVec3(view) + "), got " +
                    formatVec3(up));
     }
@@ -507,10 +527,17 @@ Camera readCamera(const JsonField& f) {
     Camera camera;
     if (!f.present()) return camera;
     f.expectObject(keyNames(K::Camera));
-    camera.position = f["position"].vec3Or(camera.position);
-    camera.target = f["target"].vec3Or(camera.target);
+    camera.position = readPoint(f["position"], camera.position);
+    camera.target = readPoint(f["target"], camera.target);
     if (camera.target == camera.position) {
         f["target"].fail("must differ from the position " + formatVec3(camera.position));
+    }
+    // Far enough from the position that the view direction is well defined in float as well as in double.
+    const double minDistance =
+        kMinCameraDistance * std::max({1.0, glm::length(camera.position), glm::length(camera.target)});
+    if (!(glm::distance(camera.target, camera.position) >= minDistance)) {
+        f["target"].fail("must be at least " + formatNumber(minDistance) + " m from the position " +
+                         formatVec3(camera.position) + " (1e-6 of the larger distance from the origin, at least 1e-6 m)");
     }
     camera.up = f["up"].vec3Or(camera.up);
     requireNonZero(f["up"], camera.up);
@@ -525,7 +552,7 @@ Camera readCamera(const JsonField& f) {
 void requireKnownTechnique(const JsonField& field, const std::string& name) {
     if (hasTechnique(name)) return;
     const std::vector<std::string> known = techniqueNames();
-    std::string message = "unknown technique '" + name + "'";
+    std::string message = "unknown technique '" + clipForMessage(name) + "'";
     const std::string nearest = nearestName(name, known);
     if (!nearest.empty()) message += "; did you mean '" + nearest + "'?";
     std::string list;
@@ -552,7 +579,7 @@ std::vector<std::string> readPartNames(const JsonField& field, const UniqueNames
     for (std::size_t i = 0; i < names.size(); ++i) {
         requireKnownName(field[i], names[i], known);
         if (std::find(names.begin(), names.begin() + i, names[i]) != names.begin() + i) {
-            field[i].fail("'" + names[i] + "' is listed twice");
+            field[i].fail("'" + clipForMessage(names[i]) + "' is listed twice");
         }
     }
     return names;
@@ -613,9 +640,17 @@ Scene readScene(const JsonField& root, const ReadContext& context, UniqueNames& 
         scene.media.push_back(readMedium(f));
         mediumNames.add(f, scene.media.back().name);
     });
+    std::size_t particleCount = 0;
     forEachElement(root["particleMedia"], [&](const JsonField& f) {
         scene.particleMedia.push_back(readParticleMedium(f));
         mediumNames.add(f, scene.particleMedia.back().name);
+        const ParticleMedium& m = scene.particleMedia.back();
+        particleCount += m.particles.size() + (m.generator ? std::size_t(m.generator->count) : 0);
+        if (particleCount > kMaxTotalParticles) {
+            f.fail("the project's particle media hold " + std::to_string(particleCount) +
+                   " particles up to here; at most " + std::to_string(kMaxTotalParticles) +
+                   " in all (each costs memory in every renderer)");
+        }
     });
     forEachElement(root["lights"], [&](const JsonField& f) {
         readLight(f, scene);

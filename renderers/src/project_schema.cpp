@@ -131,7 +131,7 @@ std::string requireOneOf(const JsonField& field, const std::vector<std::string>&
     std::string list;
     for (const std::string& name : allowed)
         list += (list.empty() ? "" : ", ") + name;
-    std::string message = "unknown value '" + value + "'; allowed: " + list;
+    std::string message = "unknown value '" + clipForMessage(value) + "'; allowed: " + list;
     const std::string nearest = nearestName(value, allowed);
     if (!nearest.empty()) message += "; did you mean '" + nearest + "'?";
     field.fail(message);

@@ -257,7 +257,8 @@ std::vector<std::pair<std::string, ObjectKind>> keysInSchemaOrder(const json& ob
     for (const KeySpec& spec : specs) {
         if (object.contains(spec.name)) keys.emplace_back(spec.name, spec.child);
     }
-    for (const auto& [key, value] : object.items()) {
+    for (const auto& item : object.items()) {
+        const std::string& key = item.key();  // a named reference: clang 14 cannot capture structured bindings
         const auto known = [&](const KeySpec& spec) { return key == spec.name; };
         if (std::none_of(specs.begin(), specs.end(), known)) keys.emplace_back(key, ObjectKind::None);
     }

@@ -1,6 +1,7 @@
 #include "tyndall/render.h"
 
 #include "tyndall/error.h"
+#include "json_field.h"  // clipForMessage
 #include "tyndall/params.h"
 
 #include <filesystem>
@@ -17,7 +18,7 @@ const View& findView(const Project& project, const std::string& name) {
         if (v.name == name) return v;
         names.push_back(v.name);
     }
-    std::string message = "no view named '" + name + "'";
+    std::string message = "no view named '" + clipForMessage(name) + "'";
     std::string nearest = nearestName(name, names);
     if (!nearest.empty()) message += "; did you mean '" + nearest + "'?";
     message += names.empty() ? " The project has no views." : " Views:";
@@ -135,6 +136,10 @@ RenderJob makeReferenceJob(const Project& project, const std::string& projectPat
     job.metadata["reference"] = "true";
     job.metadata["projectHash"] = projectHash(project);
     return job;
+}
+
+void checkJob(const RenderJob& job) {
+    job.technique->check(job.request);
 }
 
 RenderResult runJob(RenderJob& job, const RenderCallbacks& callbacks) {

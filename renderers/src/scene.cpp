@@ -143,7 +143,10 @@ std::vector<double> legendreToMonomial(const std::vector<double>& a) {
     // numbers as Eq. 13's explicit sum, without its large factorials.
     const std::size_t terms = a.size();
     std::vector<double> c(terms, 0.0);
-    std::vector<double> previous(terms + 1, 0.0), current(terms + 1, 0.0), next(terms + 1, 0.0);
+    if (terms == 0) return c;
+    // P_1 has two coefficients, so the rows hold at least two even for a single term.
+    const std::size_t rowSize = std::max<std::size_t>(terms, 1) + 1;
+    std::vector<double> previous(rowSize, 0.0), current(rowSize, 0.0), next(rowSize, 0.0);
     previous[0] = 1.0;  // P_0
     current[1] = 1.0;   // P_1
     for (std::size_t n = 0; n < terms; ++n) {

@@ -32,6 +32,10 @@ std::vector<std::string> Technique::unsupported(const Scene& scene) const {
     return out;
 }
 
+void Technique::check(const RenderRequest& request) const {
+    requireSupported(request.scene);
+}
+
 void Technique::requireSupported(const Scene& scene) const {
     const std::vector<std::string> missing = unsupported(scene);
     if (!missing.empty())

@@ -1009,7 +1009,7 @@ TEST(ProjectOverrides, AppendElementsWithPlus) {
 }
 
 TEST(ProjectOverrides, RejectIndicesTooLargeForAnyArray) {
-    EXPECT_TRUE(failsAt(baseDocument(), "--set lights[99999999999999999999999].name", "out of range",
+    EXPECT_TRUE(failsAt(baseDocument(), "--set lights[99999999999999999999999].name", "is too large",
                         {"lights[99999999999999999999999].name=x"}));
     // Leading zeros do not count toward the digits.
     EXPECT_EQ(parse(baseDocument(), {"lights[0000000000000000000001].irradiance=4"}).scene.directionalLights[0].irradiance,

@@ -210,6 +210,11 @@ std::string formatNumber(double x) {
 
 }  // namespace
 
+void WvdsTechnique::check(const RenderRequest& request) const {
+    requireSupported(request.scene);
+    (void)wvds::prepareScene(request.scene, wvds::settingsFrom(request.params), request.seed, request.projectDir);
+}
+
 RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();

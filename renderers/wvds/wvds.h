@@ -32,6 +32,7 @@ public:
     Support supports(const Material&) const override { return Support::yes(); }
 
     RenderResult render(const RenderRequest& request, const RenderCallbacks& callbacks) override;
+    void check(const RenderRequest& request) const override;
 
     // "distances": at a pixel, histograms (256 bins) of the distances each strategy samples along the centre ray, with
     // their analytic pdfs (the paper's Fig. 4 and 5). "convergence": relMSE of every estimator against a converged

@@ -2,9 +2,17 @@
 // the project (the bundled default project when none is given). With --screenshot it waits until every view and
 // reference has rendered, saves a picture of the screen and quits (for documentation and checks). Needs a window
 // system with Vulkan surfaces (the xcb platform; lavapipe does).
+//
+// With --screenshot the run is non-interactive: it never waits on a dialog. Every problem is printed on stderr and
+// ends the run: exit 1 for the environment (no Vulkan, a platform without window surfaces such as offscreen, an
+// autosave newer than the project that a person must decide about, nothing rendered within
+// TYNDALL_SCREENSHOT_TIMEOUT seconds, default 600), exit 2 for a project that does not open.
 #include "main_window.h"
 
+#include "tyndall/project.h"
+
 #include <QApplication>
+#include <QFileInfo>
 #include <QMessageBox>
 #include <QScreen>
 #include <QTimer>
@@ -31,21 +39,63 @@ int main(int argc, char** argv) {
         } else
             project = args[i];
     }
+    const bool interactive = screenshot.isEmpty();
+    const auto fail = [&](const QString& message) {
+        std::fprintf(stderr, "tyndall-studio: %s\n", qPrintable(message));
+        if (interactive) QMessageBox::critical(nullptr, "Tyndall Studio", message);
+    };
+    const QString platform = QGuiApplication::platformName();
+    if (!interactive && (platform == "offscreen" || platform == "minimal")) {
+        fail("--screenshot needs a window system with Vulkan surfaces (xcb, e.g. under xvfb-run); the '" + platform +
+             "' platform has none");
+        return 1;
+    }
     QVulkanInstance vulkan;
     vulkan.setApiVersion(QVersionNumber(1, 2));
     if (!vulkan.create()) {
-        QMessageBox::critical(nullptr, "Tyndall Studio", "Vulkan is not available: " +
-                                                              QString::number(vulkan.errorCode()));
+        fail("Vulkan is not available: " + QString::number(vulkan.errorCode()));
         return 1;
     }
+    if (!interactive) {
+        try {
+            (void)tyndall::loadProject(project.toStdString(), overrides);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "tyndall-studio: error: %s\n", e.what());
+            return 2;
+        }
+    }
     tyndall::studio::MainWindow window(&vulkan, overrides);
+    if (!interactive) {
+        // Recovering unsaved changes is a person's decision: report the autosave and leave it for them.
+        const QFileInfo autosave(tyndall::studio::MainWindow::autosavePath(project)), file(project);
+        if (autosave.exists() && autosave.lastModified() >= file.lastModified()) {
+            fail("an autosave of " + project + " is newer than the file (" + autosave.filePath() +
+                 "); open the project interactively to recover or discard it");
+            return 1;
+        }
+        window.setRecovery(tyndall::studio::MainWindow::Recovery::Never);
+    }
     window.show();
-    if (!window.openProject(project)) return 2;
+    if (!window.openProject(project, interactive)) {
+        if (!interactive) std::fprintf(stderr, "tyndall-studio: cannot open %s\n", qPrintable(project));
+        return 2;
+    }
     QTimer poll;
+    QTimer deadline;
     if (!screenshot.isEmpty()) {
+        bool ok = false;
+        const int timeout = qEnvironmentVariableIntValue("TYNDALL_SCREENSHOT_TIMEOUT", &ok);
+        deadline.setSingleShot(true);
+        QObject::connect(&deadline, &QTimer::timeout, [&] {
+            std::fprintf(stderr, "tyndall-studio: not every view rendered within %d s; no screenshot written\n",
+                         ok && timeout > 0 ? timeout : 600);
+            QApplication::exit(1);
+        });
+        deadline.start((ok && timeout > 0 ? timeout : 600) * 1000);
         QObject::connect(&poll, &QTimer::timeout, [&] {
             if (!window.settled()) return;
             poll.stop();
+            deadline.stop();
             // A moment for the last frame to be presented, then the whole screen (the Vulkan viewport included).
             QTimer::singleShot(500, [&] {
                 const bool ok = window.screen()->grabWindow(0).save(screenshot);

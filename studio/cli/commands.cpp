@@ -6,6 +6,7 @@
 #include "tyndall/gpu/context.h"
 #include "tyndall/image_io.h"
 #include "tyndall/metrics.h"
+#include "tyndall/output.h"
 #include "tyndall/project.h"
 #include "tyndall/render.h"
 
@@ -13,6 +14,7 @@
 #include <tbb/info.h>
 
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -35,6 +37,9 @@ int guarded(Body&& body) {
     } catch (const InputError& e) {
         std::fprintf(stderr, "tyndall: error: %s\n", e.what());
         return kBadInput;
+    } catch (const OutputError& e) {
+        std::fprintf(stderr, "tyndall: error: %s\n", e.what());
+        return kFailure;
     } catch (const Cancelled&) {
         std::fprintf(stderr, "tyndall: cancelled\n");
         return kFailure;
@@ -62,6 +67,8 @@ void checkOutputPath(const std::string& path) {
         throw InputError(InputLocation{"", 0, 0, "--out"}, "the folder of '" + path + "' does not exist");
 }
 
+constexpr int kMaxImageSide = 16384;  // as camera.width and camera.height (docs/project-format.md)
+
 // "WxH" -> camera overrides.
 void addSizeOverrides(const std::string& size, std::vector<std::string>& sets) {
     int w = 0, h = 0;
@@ -69,6 +76,9 @@ void addSizeOverrides(const std::string& size, std::vector<std::string>& sets) {
     std::istringstream in(size);
     if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> rest))
         throw InputError(InputLocation{"", 0, 0, "--size"}, "'" + size + "' is not WIDTHxHEIGHT, e.g. 512x512");
+    if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+        throw InputError(InputLocation{"", 0, 0, "--size"}, "'" + size + "': width and height must be in [1, " +
+                                                                std::to_string(kMaxImageSide) + "]");
     sets.push_back("camera.width=" + std::to_string(w));
     sets.push_back("camera.height=" + std::to_string(h));
 }
@@ -84,27 +94,17 @@ Region parseRegion(const std::string& text) {
     return r;
 }
 
-void writeTextAtomically(const std::string& path, const std::string& text, const char* field) {
-    std::filesystem::path target(path);
-    std::filesystem::path tmp = target;
-    tmp += ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        if (!out) throw InputError(InputLocation{"", 0, 0, field}, "cannot write '" + path + "'");
-        out << text;
-        out.flush();
-        if (!out) {
-            std::error_code ec;
-            std::filesystem::remove(tmp, ec);
-            throw InputError(InputLocation{"", 0, 0, field}, "cannot write '" + path + "'");
-        }
-    }
+// --json and --csv: a folder named instead of a file is the user's mistake, not the environment's.
+void checkTextOutputPath(const std::string& path, const char* field) {
     std::error_code ec;
-    std::filesystem::rename(tmp, target, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw InputError(InputLocation{"", 0, 0, field}, "cannot write '" + path + "': " + ec.message());
-    }
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError(InputLocation{"", 0, 0, field}, "'" + path + "' is a directory; name a file");
+}
+
+// A compare or probe input image: linear float data, so EXR only (a PNG holds display values).
+void requireExr(const std::string& path, const char* field) {
+    if (extensionOf(path) != ".exr")
+        throw InputError(InputLocation{path, 0, 0, field}, "must be an .exr file: metrics need linear values, and a PNG holds tonemapped ones");
 }
 
 // "1 view", "3 views".
@@ -167,11 +167,18 @@ int render(const RenderArgs& args) {
         std::signal(SIGINT, SIG_DFL);
 
         const double exposure = args.exposure.value_or(job.exposure);
+        OutputSet files;  // every output, or none
+        for (const std::string& out : outs) files.stage(out, encodeImage(result.image, out, exposure, tonemap));
+        files.commit();
         for (const std::string& out : outs) {
-            writeImage(result.image, out, exposure, tonemap);
             std::printf("wrote %s (%d x %d, %d spp, %.2f s)\n", out.c_str(), result.image.width(),
                         result.image.height(), result.spp, result.seconds);
         }
+        // A technique replaces a sample that is NaN or infinite by 0 and counts it; say so rather than let a dark image
+        // pass unnoticed.
+        if (auto it = result.image.metadata.find("nonFiniteSamples"); it != result.image.metadata.end() && it->second != "0")
+            std::fprintf(stderr, "tyndall: warning: %s samples were not finite and count as 0 (metadata nonFiniteSamples)\n",
+                         it->second.c_str());
         return int(kOk);
     });
 }
@@ -180,6 +187,8 @@ int probe(const ProbeArgs& args) {
     return guarded([&] {
         std::vector<std::string> sets = args.sets;
         if (!args.size.empty()) addSizeOverrides(args.size, sets);
+        if (args.spp && *args.spp < 1)
+            throw InputError(InputLocation{"", 0, 0, "--spp"}, "must be at least 1, got " + std::to_string(*args.spp));
         Project project = loadProject(args.project, sets);
         JobOptions options;
         options.spp = args.spp;
@@ -207,8 +216,12 @@ int probe(const ProbeArgs& args) {
         std::printf("%s\n", r.title.c_str());
         for (const ProbeSeries& s : r.series)
             std::printf("  %-40s %zu points\n", s.label.c_str(), s.x.size());
-        if (!args.csv.empty()) writeTextAtomically(args.csv, csv, "--csv");
-        if (!args.json.empty()) writeTextAtomically(args.json, j.dump(2) + "\n", "--json");
+        OutputSet files;
+        if (!args.csv.empty()) checkTextOutputPath(args.csv, "--csv");
+        if (!args.json.empty()) checkTextOutputPath(args.json, "--json");
+        if (!args.csv.empty()) files.stage(args.csv, csv);
+        if (!args.json.empty()) files.stage(args.json, j.dump(2) + "\n");
+        files.commit();
         return int(kOk);
     });
 }
@@ -218,13 +231,16 @@ int validate(const ValidateArgs& args) {
     for (const std::string& path : args.projects) {
         int code = guarded([&] {
             Project project = loadProject(path, args.sets);
-            // Every view must be renderable: its technique must support its part of the scene.
+            // Every check a render would make: each view with its technique, and the reference of the whole scene
+            // (every view's reference renders a part of it), each prepared as for rendering.
             std::size_t partial = 0;
             for (const View& view : project.views) {
                 const RenderJob job = makeViewJob(project, path, view.name);
+                checkJob(job);
                 warnLeftOut(job, path + ": ");
                 partial += job.leftOut.empty() ? 0 : 1;
             }
+            checkJob(makeReferenceJob(project, path, ""));
             std::printf("%s: ok (%s%s)\n", path.c_str(), counted(project.views.size(), "view").c_str(),
                         partial ? (", " + std::to_string(partial) + " leaving out part of the scene").c_str() : "");
             return int(kOk);
@@ -243,7 +259,13 @@ int compare(const CompareArgs& args) {
         else if (args.diffKind == "absolute") kind = DifferenceKind::Absolute;
         else if (args.diffKind == "relative") kind = DifferenceKind::Relative;
         else throw InputError(InputLocation{"", 0, 0, "--diff-kind"}, "'" + args.diffKind + "' is not one of signed, absolute, relative");
-        if (args.diffScale < 0.0) throw InputError(InputLocation{"", 0, 0, "--diff-scale"}, "must be positive");
+        if (!(args.diffScale >= 0.0) || !std::isfinite(args.diffScale))
+            throw InputError(InputLocation{"", 0, 0, "--diff-scale"}, "must be a finite number >= 0 (0: the default)");
+        requireExr(args.reference, "--reference");
+        for (const std::string& path : args.images) requireExr(path, "images");
+        if (!args.diff.empty()) checkOutputPath(args.diff);
+        if (!args.csv.empty()) checkTextOutputPath(args.csv, "--csv");
+        if (!args.json.empty()) checkTextOutputPath(args.json, "--json");
         if (!args.diff.empty() && args.images.size() > 1 && args.diff.find("{name}") == std::string::npos)
             throw InputError(InputLocation{"", 0, 0, "--diff"}, "with several images the path must contain {name}");
 
@@ -271,9 +293,15 @@ int compare(const CompareArgs& args) {
         json["images"] = nlohmann::json::array();
         std::string csv = metricsCsvHeader() + "\n";
         std::printf("%-32s %12s %12s %10s %10s %10s\n", "image", "RMSE", "relMSE", "MAPE %", "PSNR dB", "bias %");
+        OutputSet files;  // the difference images, JSON and CSV appear together or not at all
         for (const std::string& path : args.images) {
             Image image = readImage(path);
-            Metrics m = computeMetrics(image, reference, exposure, region);
+            Metrics m;
+            try {
+                m = computeMetrics(image, reference, exposure, region);
+            } catch (const InputError& e) {
+                throw InputError(InputLocation{path, 0, 0, ""}, e.message() + " (against the reference '" + args.reference + "')");
+            }
             std::string name = std::filesystem::path(path).stem().string();
             std::printf("%-32s %12s %12s %10s %10s %10s\n", name.c_str(), formatNumber(m.rmse).c_str(),
                         formatNumber(m.relMSE).c_str(), formatNumber(m.mape).c_str(), formatNumber(m.psnr).c_str(),
@@ -286,14 +314,22 @@ int compare(const CompareArgs& args) {
                 std::string out = args.diff;
                 if (auto pos = out.find("{name}"); pos != std::string::npos) out.replace(pos, 6, name);
                 checkOutputPath(out);
-                writeImage(differenceImage(image, reference, kind, scale), out);
-                std::printf("wrote %s\n", out.c_str());
+                files.stage(out, encodeImage(differenceImage(image, reference, kind, scale), out));
             }
         }
         if (auto noise = computeMetrics(reference, reference, exposure, region).referenceNoiseRelMSE)
             std::printf("reference noise (relMSE from its variance): %s\n", formatNumber(*noise).c_str());
-        if (!args.json.empty()) writeTextAtomically(args.json, json.dump(2) + "\n", "--json");
-        if (!args.csv.empty()) writeTextAtomically(args.csv, csv, "--csv");
+        if (!args.json.empty()) files.stage(args.json, json.dump(2) + "\n");
+        if (!args.csv.empty()) files.stage(args.csv, csv);
+        files.commit();
+        if (!args.diff.empty()) {
+            for (const std::string& path : args.images) {
+                std::string out = args.diff;
+                if (auto pos = out.find("{name}"); pos != std::string::npos)
+                    out.replace(pos, 6, std::filesystem::path(path).stem().string());
+                std::printf("wrote %s\n", out.c_str());
+            }
+        }
         return int(kOk);
     });
 }

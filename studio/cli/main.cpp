@@ -4,7 +4,38 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <string>
+
+namespace {
+
+// CLI11 converts "-1" to 2^64 - 1 for an unsigned option and accepts "nan" for a double: these validators refuse
+// what the conversions would change silently.
+const CLI::Validator kSeed(
+    [](const std::string& text) -> std::string {
+        if (text.empty() || text.size() > 20 || text.find_first_not_of("0123456789") != std::string::npos ||
+            (text.size() == 20 && text > "18446744073709551615"))
+            return "must be an integer in [0, 18446744073709551615], got '" + text.substr(0, 40) + "'";
+        return "";
+    },
+    "UINT64");
+
+const CLI::Validator kFinite(
+    [](const std::string& text) -> std::string {
+        std::size_t end = 0;
+        double value = 0.0;
+        try {
+            value = std::stod(text, &end);
+        } catch (const std::exception&) {
+            return "must be a number, got '" + text.substr(0, 40) + "'";
+        }
+        if (end != text.size() || !std::isfinite(value)) return "must be a finite number, got '" + text.substr(0, 40) + "'";
+        return "";
+    },
+    "FINITE");
+
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace tyndall::cli;
@@ -20,11 +51,13 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--set", render.sets, "override a project field: path=value, e.g. media[0].sigma_s=[0.1,0.1,0.1]");
     renderCmd->add_option("--spp", render.spp, "samples per pixel");
     renderCmd->add_option("--size", render.size, "image size WIDTHxHEIGHT");
-    renderCmd->add_option("--seed", render.seed, "random seed");
-    renderCmd->add_option("--time", render.time, "render until this many seconds (progressive techniques; --spp beside it is a cap)");
-    renderCmd->add_option("--threads", render.threads, "CPU threads (0: all)");
+    renderCmd->add_option("--seed", render.seed, "random seed")->check(kSeed);
+    renderCmd->add_option("--time", render.time,
+                          "render until this many seconds (progressive techniques; --spp beside it is a cap)");
+    renderCmd->add_option("--threads", render.threads, "CPU threads (0: all)")->check(CLI::Range(0, 4096));
     renderCmd->add_option("--out,-o", render.outs, "output image(s): .exr (float + metadata) or .png (tonemapped)");
-    renderCmd->add_option("--exposure", render.exposure, "exposure in stops for PNG output (default: the view's)");
+    renderCmd->add_option("--exposure", render.exposure, "exposure in stops for PNG output (default: the view's)")
+        ->check(kFinite);
     renderCmd->add_option("--tonemap", render.tonemap,
                           "display transform of PNG output, after the exposure: srgb (clamped, the default), reinhard, "
                           "aces, falsecolour (log2 luminance in viridis, -10 to +2 EV)");
@@ -38,13 +71,15 @@ int main(int argc, char** argv) {
     CLI::App* compareCmd = app.add_subcommand("compare", "error metrics of images against a reference image");
     compareCmd->add_option("images", compare.images, "images to compare (.exr)")->required();
     compareCmd->add_option("--reference,-r", compare.reference, "the reference image (.exr)")->required();
-    compareCmd->add_option("--exposure", compare.exposure, "exposure in stops for PSNR (default: the reference's)");
+    compareCmd->add_option("--exposure", compare.exposure, "exposure in stops for PSNR (default: the reference's)")
+        ->check(kFinite);
     compareCmd->add_option("--region", compare.region, "x,y,width,height in pixels");
     compareCmd->add_option("--json", compare.json, "write the metrics as JSON");
     compareCmd->add_option("--csv", compare.csv, "write the metrics as CSV");
     compareCmd->add_option("--diff", compare.diff, "write a false-colour difference image ({name} is replaced by each image's name)");
     compareCmd->add_option("--diff-kind", compare.diffKind, "signed, absolute or relative");
-    compareCmd->add_option("--diff-scale", compare.diffScale, "difference at the ends of the colour map (default: 10% of the reference's mean luminance)");
+    compareCmd->add_option("--diff-scale", compare.diffScale, "difference at the ends of the colour map (default: 10% of the reference's mean luminance)")
+        ->check(kFinite);
 
     ProbeArgs probe;
     CLI::App* probeCmd = app.add_subcommand("probe", "the data behind a technique's plots at a pixel, e.g. sampled-distance histograms and pdfs");
@@ -55,7 +90,7 @@ int main(int argc, char** argv) {
     probeCmd->add_option("--set", probe.sets, "override a project field: path=value");
     probeCmd->add_option("--spp", probe.spp, "samples per pixel, for probes that render");
     probeCmd->add_option("--size", probe.size, "image size WIDTHxHEIGHT");
-    probeCmd->add_option("--seed", probe.seed, "random seed");
+    probeCmd->add_option("--seed", probe.seed, "random seed")->check(kSeed);
     probeCmd->add_option("--csv", probe.csv, "write the series as CSV (series,x,y)");
     probeCmd->add_option("--json", probe.json, "write the result as JSON");
 

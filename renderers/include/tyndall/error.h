@@ -39,6 +39,13 @@ private:
     std::string message_;
 };
 
+// The environment refused an operation that the input asked for correctly: a full disk, a read-only folder, missing
+// permissions. Not the user's input: the CLI exits 1 for it (docs/conventions.md, "Exit codes").
+class OutputError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
 // A render that was stopped by its caller. Not an error for the user; the CLI reports it and exits 1.
 class Cancelled : public std::runtime_error {
 public:

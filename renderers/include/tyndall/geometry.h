@@ -10,8 +10,18 @@
 
 namespace tyndall {
 
+// Limits that keep every renderer in finite numbers (the reference and the GPU techniques work in float, and Embree
+// asserts on non-finite bounds): every world-space coordinate (positions, vertices, box corners, particles, mesh
+// vertices after their transform) is within +-kMaxWorldCoordinate, and a user polygon is at least kMinPolygonSize
+// across. docs/conventions.md lists them.
+inline constexpr double kMaxWorldCoordinate = 1e8;  // m
+inline constexpr double kMinPolygonSize = 1e-6;     // m, the diagonal of the polygon's bounding box
+// A convex polyhedron medium has at most this many planes: clipping costs O(planes^2) or more.
+inline constexpr std::size_t kMaxPolyhedronPlanes = 1024;
+
 // The world-space triangles of a mesh (built-in plane/box/sphere, or an OBJ file resolved against projectDir).
-// Throws InputError naming the mesh (field `meshes[i]` is the caller's to add) for a missing or empty OBJ file.
+// Throws InputError naming the mesh (field `meshes[i]` is the caller's to add) for a missing or empty OBJ file, bad
+// face indices, a singular transform or a vertex beyond kMaxWorldCoordinate.
 TriangleMesh buildMesh(const Mesh& mesh, const std::string& projectDir);
 
 // A bounded convex polyhedron as the intersection of half-spaces: its faces as convex polygons (counter-clockwise seen

@@ -9,10 +9,14 @@
 
 namespace tyndall {
 
-// Writes by extension (.exr or .png), atomically: a temporary file beside the target, then rename, so that a failed
-// write leaves no partial file. Throws InputError naming the path when it cannot be written.
+// Writes by extension (.exr or .png), all or nothing (writeFileAtomically, output.h). Throws InputError naming the path
+// for what the caller asked wrongly (extension, missing folder, a PNG without R, G, B), OutputError when the
+// environment refuses (disk full, read-only folder).
 // PNG: RGB only, multiplied by 2^exposure, through the display transform `op` (tonemap.h), 8 bits.
 void writeImage(const Image& image, const std::string& path, double exposure = 0.0, Tonemap op = Tonemap::Srgb);
+// The bytes of the file writeImage would write, the format chosen by `path`'s extension; for OutputSet::stage when
+// several outputs must appear together.
+std::string encodeImage(const Image& image, const std::string& path, double exposure = 0.0, Tonemap op = Tonemap::Srgb);
 
 // Reads an EXR (every channel, every string metadata attribute) or any format OIIO reads (as float). Throws InputError
 // naming the path for a missing or unreadable file.

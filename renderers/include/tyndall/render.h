@@ -41,6 +41,9 @@ RenderJob makeViewJob(const Project& project, const std::string& projectPath, co
 RenderJob makeReferenceJob(const Project& project, const std::string& projectPath, const std::string& viewName,
                            const JobOptions& options = {});
 
+// Every check a render of the job makes, without rendering (Technique::check): what `tyndall validate` runs.
+void checkJob(const RenderJob& job);
+
 // Runs the job and stamps the image with the job's metadata, spp, render time and Tyndall's version.
 RenderResult runJob(RenderJob& job, const RenderCallbacks& callbacks = {});
 

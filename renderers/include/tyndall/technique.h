@@ -89,6 +89,10 @@ public:
     // Renders progressively until request.spp or request.timeLimit; throws Cancelled when cancelled, InputError when
     // the scene holds something unsupported (never a black image).
     virtual RenderResult render(const RenderRequest& request, const RenderCallbacks& callbacks) = 0;
+    // Every check render() makes before it starts, without rendering: the technique prepares the scene as render()
+    // would (OBJ files read, media clipped, its own limits) and throws InputError for what it would refuse. `tyndall
+    // validate` calls it for every job. The default checks support only.
+    virtual void check(const RenderRequest& request) const;
 
     virtual std::vector<ProbeInfo> probes() const { return {}; }
     virtual ProbeResult probe(const RenderRequest& request, const std::string& probeName, int x, int y);

@@ -1,0 +1,33 @@
+// libFuzzer target: an image file as `tyndall compare` reads it (readImage, then the metrics and a difference image
+// against itself). The bytes are written to a file of this process (OpenImageIO reads files) with the extension of the
+// first byte's choice: even .exr, odd .png. InputError is the expected answer; anything else escaping is a finding.
+#include "tyndall/error.h"
+#include "tyndall/image_io.h"
+#include "tyndall/metrics.h"
+
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    if (size < 1) return 0;
+    const std::string path = (std::filesystem::temp_directory_path() /
+                              ("tyndall-fuzz-image-" + std::to_string(::getpid()) + (data[0] % 2 ? ".png" : ".exr")))
+                                 .string();
+    std::FILE* file = std::fopen(path.c_str(), "wb");
+    if (!file) return 0;
+    std::fwrite(data + 1, 1, size - 1, file);
+    std::fclose(file);
+    try {
+        const tyndall::Image image = tyndall::readImage(path);
+        (void)tyndall::computeMetrics(image, image, 0.0, tyndall::Region{});
+        (void)tyndall::differenceImage(image, image, tyndall::DifferenceKind::Signed, 1.0);
+    } catch (const tyndall::InputError&) {
+    }
+    std::remove(path.c_str());
+    return 0;
+}

@@ -1,0 +1,305 @@
+// Reliability of the tyndall CLI (issue 21): no crash on any input, exit 2 with file and field for bad input, exit 1
+// for environment failures, and outputs that appear completely or not at all. The inputs are files in tests/data/.
+#include "tyndall/image_io.h"
+#include "tyndall/output.h"
+#include "tyndall/project.h"
+#include "tyndall/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/mount.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+    int exitCode = -1;  // -1 when killed by a signal
+    std::string output;  // stdout and stderr
+};
+
+CliRun tyndall(const std::string& args) {
+    const std::string command = std::string(TYNDALL_CLI) + " " + args + " 2>&1";
+    CliRun run;
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return run;
+    std::array<char, 4096> buffer{};
+    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe))
+        run.output.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return run;
+}
+
+std::string data(const std::string& name) {
+    return std::string(TYNDALL_SOURCE_DIR) + "/tests/data/" + name;
+}
+
+fs::path scratch(const std::string& name) {
+    const fs::path dir = fs::path(TYNDALL_TEST_TMP) / "reliability" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string writeFile(const fs::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+    return path.string();
+}
+
+std::string readFile(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::vector<std::string> filesIn(const fs::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(dir))
+        names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+// A scene that renders in milliseconds: an area light over a floor, seen by the reference.
+std::string tinyProject(const fs::path& dir) {
+    return writeFile(dir / "tiny.json", R"({
+  "tyndall": 1,
+  "camera": {"position": [0, 1, 3], "target": [0, 0, 0], "width": 24, "height": 16},
+  "lights": [{"name": "panel", "type": "area", "vertices": [[-1, 2, -1], [-1, 2, 1], [1, 2, 1], [1, 2, -1]],
+              "radiance": 2.0, "twoSided": true}],
+  "materials": [{"name": "floor", "albedo": 0.5}],
+  "meshes": [{"name": "floor", "shape": "plane", "material": "floor", "transform": {"scale": [4, 1, 4]}}],
+  "views": [{"name": "ref", "technique": "reference"}]
+})");
+}
+
+void expectRefused(const CliRun& run, const std::string& what, const std::vector<std::string>& phrases) {
+    const std::string shown = run.output.substr(0, 4000);  // a failure must not print megabytes
+    EXPECT_EQ(run.exitCode, 2) << what << ": " << shown;
+    EXPECT_EQ(run.output.find("contract violated"), std::string::npos) << what << ": " << shown;
+    for (const std::string& phrase : phrases)
+        EXPECT_NE(run.output.find(phrase), std::string::npos) << what << ": expected '" << phrase << "' in " << shown;
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Items 1-5 and 9-10: inputs that crashed, aborted, passed validate but failed render, or were accepted silently.
+
+struct BadProject {
+    const char* file;
+    std::vector<std::string> phrases;  // each must appear in the message
+};
+
+const std::vector<BadProject>& badProjects() {
+    static const std::vector<BadProject> projects = {
+        {"deep_nesting.json", {"deep_nesting.json:1:", "name", "nested deeper than 64"}},
+        {"legendre_no_coefficients.json", {"lights[0].distribution.coefficients"}},
+        {"mesh_scaled_1e200.json", {"mesh \"big\"", "beyond the limit of +-1e+08 m"}},
+        {"mesh_scaled_1e10.json", {"mesh \"big\"", "beyond the limit of +-1e+08 m"}},
+        {"camera_target_1e-300_away.json", {"camera.target", "must be at least 1e-06 m from the position"}},
+        {"camera_extreme_coordinates.json", {"camera.position", "limited to +-1e+08 m"}},
+        {"particle_region_1e308.json", {"particleMedia[0].generator.region.size", "limited to +-1e+08 m"}},
+        {"particle_region_1e12.json", {"particleMedia[0].generator.region.size", "limited to +-1e+08 m"}},
+        {"gobo_tiny.json", {"lights[0].gobo", "the smallest allowed is 1e-06 m"}},
+        {"area_light_tiny.json", {"lights[0].vertices", "the smallest allowed is 1e-06 m"}},
+        {"area_light_huge.json", {"lights[0].vertices", "beyond the limit of +-1e+08 m"}},
+        {"obj_without_triangles.json", {"has no triangles"}},
+        {"obj_bad_face_index.json", {"a face refers to vertex"}},
+        {"mesh_singular_transform.json", {"the transform is singular"}},
+        {"pegoraro_over_order_limit.json", {"the Pegoraro technique takes"}},
+        {"duplicate_key.json", {"duplicate_key.json:3:", "camera.fovY", "duplicate key 'fovY'"}},
+        {"nul_byte.json", {"nul_byte.json:2:1", "NUL byte"}},
+        {"number_too_large.json", {"number_too_large.json:4:", "camera.fovY", "1e999 is too large"}},
+        {"polyhedron_1100_planes.json", {"media[0].planes", "at most 1024 planes, got 1100"}},
+        {"particles_over_total_limit.json", {"particleMedia[2]", "at most 2000000 in all"}},
+    };
+    return projects;
+}
+
+TEST(Reliability, ValidateRefusesWhatCannotBeRenderedWithFileAndField) {
+    for (const BadProject& p : badProjects())
+        expectRefused(tyndall("validate '" + data(p.file) + "'"), p.file, p.phrases);
+}
+
+TEST(Reliability, RenderRefusesTheSameInputsWithoutCrashing) {
+    const fs::path dir = scratch("render-refuses");
+    for (const BadProject& p : badProjects()) {
+        const std::string out = (dir / "out.exr").string();
+        const CliRun run = tyndall("render '" + data(p.file) + "' --view " +
+                                   (std::string(p.file) == "pegoraro_over_order_limit.json" ? "closed" : "ref") +
+                                   " --spp 1 -o '" + out + "'");
+        EXPECT_EQ(run.exitCode, 2) << p.file << ": " << run.output.substr(0, 4000);
+        EXPECT_FALSE(fs::exists(out)) << p.file;
+    }
+    EXPECT_TRUE(filesIn(dir).empty());
+}
+
+TEST(Reliability, DeepNestingThroughSetIsRefused) {
+    const std::string deep = std::string(50000, '[') + std::string(50000, ']');
+    const CliRun run = tyndall("validate '" + std::string(TYNDALL_SOURCE_DIR) + "/projects/default.json' --set 'name=" +
+                               deep + "'");
+    expectRefused(run, "--set name=[[[...]]]", {"--set name", "nested deeper than 64"});
+}
+
+TEST(Reliability, LegendreConversionOfShortSeriesStaysInBounds) {
+    EXPECT_TRUE(tyndall::legendreToMonomial({}).empty());
+    EXPECT_EQ(tyndall::legendreToMonomial({1.0}), std::vector<double>({1.0}));
+    // a_0 P_0 + a_1 P_1 = 1 + 0.5 mu.
+    EXPECT_EQ(tyndall::legendreToMonomial({1.0, 0.5}), std::vector<double>({1.0, 0.5}));
+}
+
+TEST(Reliability, AHugeValueIsNotEchoedWhole) {
+    const fs::path dir = scratch("huge-value");
+    const std::string project =
+        writeFile(dir / "huge.json", R"({"tyndall": 1, "views": [{"name": "v", "technique": ")" +
+                                         std::string(10'000'000, 'x') + R"("}]})");
+    const CliRun run = tyndall("validate '" + project + "'");
+    expectRefused(run, "10 MB technique name", {"views[0].technique", "(10000000 bytes)"});
+    EXPECT_LT(run.output.size(), 2000u);
+}
+
+TEST(Reliability, CommandLineValuesThatWouldChangeMeaningAreRefused) {
+    const fs::path dir = scratch("arguments");
+    const std::string project = tinyProject(dir);
+    const std::string out = (dir / "x.png").string();
+    const std::string render = "render '" + project + "' --view ref --spp 1 -o '" + out + "' ";
+    expectRefused(tyndall(render + "--seed -1"), "--seed -1", {"--seed"});
+    expectRefused(tyndall(render + "--seed 18446744073709551616"), "--seed 2^64", {"--seed"});
+    expectRefused(tyndall(render + "--threads -5"), "--threads -5", {"--threads"});
+    expectRefused(tyndall(render + "--exposure nan"), "--exposure nan", {"--exposure"});
+    expectRefused(tyndall(render + "--size 100000x100000"), "--size", {"--size", "[1, 16384]"});
+    expectRefused(tyndall(render + "--set 'lights[99999999999999999999999].radiance=1'"), "huge index",
+                  {"--set lights[99999999999999999999999].radiance", "too large"});
+    expectRefused(tyndall(render + "--set \"name=$(printf '\\377\\376')\""), "invalid UTF-8", {"--set name", "UTF-8"});
+    EXPECT_FALSE(fs::exists(out));
+    expectRefused(tyndall("probe '" + project + "' --view ref --probe distances --spp 0"), "probe --spp 0", {"--spp"});
+}
+
+TEST(Reliability, AProjectThatIsNotAFileIsNamedAsSuch) {
+    const fs::path dir = scratch("not-a-file");
+    expectRefused(tyndall("validate '" + dir.string() + "'"), "a directory", {"is a directory"});
+    expectRefused(tyndall("validate /dev/null"), "/dev/null", {"/dev/null", "not a regular file"});
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Items 6-8 and 11: outputs are all-or-nothing; environment failures exit 1.
+
+TEST(Reliability, RenderWritesEveryOutputOrNone) {
+    const fs::path dir = scratch("all-or-nothing");
+    const std::string project = tinyProject(dir);
+    const std::string ok = (dir / "ok.exr").string();
+    // /proc refuses new files even to root: the second output fails after the render.
+    const CliRun run = tyndall("render '" + project + "' --view ref --spp 1 -o '" + ok + "' -o /proc/tyndall-x.png");
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    EXPECT_NE(run.output.find("/proc/tyndall-x.png"), std::string::npos) << run.output;
+    EXPECT_EQ(filesIn(dir), std::vector<std::string>({"tiny.json"}));
+}
+
+TEST(Reliability, AFailedWriteLeavesTheExistingFileAndNoTemporary) {
+    const fs::path dir = scratch("full-disk");
+    const fs::path mountPoint = dir / "tiny-fs";
+    fs::create_directories(mountPoint);
+    if (::mount("tyndall-test", mountPoint.c_str(), "tmpfs", 0, "size=64k") != 0)
+        GTEST_SKIP() << "cannot mount a 64 KiB tmpfs here (needs root and a mount namespace that allows it)";
+    const std::string project = tinyProject(dir);
+    const std::string exr = (mountPoint / "x.exr").string();
+    writeFile(exr, "the good file");
+    writeFile(mountPoint / "filler", std::string(60 * 1024, 'f'));  // leaves 4 KiB, less than a noisy 96 x 64 EXR
+    const CliRun run = tyndall("render '" + project + "' --view ref --spp 1 --size 96x64 -o '" + exr + "'");
+    const std::string kept = readFile(exr);
+    const std::vector<std::string> files = filesIn(mountPoint);
+    ::umount(mountPoint.c_str());
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    EXPECT_NE(run.output.find("No space left on device"), std::string::npos) << run.output;
+    EXPECT_EQ(run.output.find("wrote"), std::string::npos) << run.output;
+    EXPECT_EQ(kept, "the good file");
+    EXPECT_EQ(files, std::vector<std::string>({"filler", "x.exr"}));
+}
+
+TEST(Reliability, TextOutputsIgnorePlantedFilesAndUpdateSymlinkTargets) {
+    const fs::path dir = scratch("symlinks");
+    const std::string project = tinyProject(dir);
+    const std::string ref = (dir / "ref.exr").string();
+    ASSERT_EQ(tyndall("render '" + project + "' --view ref --spp 1 -o '" + ref + "'").exitCode, 0);
+
+    // A symlink planted at the old predictable temporary name must not be followed.
+    writeFile(dir / "victim", "precious");
+    fs::create_symlink(dir / "victim", dir / "metrics.json.tmp");
+    // metrics-link.json is a symlink to real.json: the target is updated, the link stays.
+    writeFile(dir / "real.json", "old");
+    fs::create_symlink("real.json", dir / "metrics-link.json");
+    const CliRun run = tyndall("compare '" + ref + "' -r '" + ref + "' --json '" + (dir / "metrics.json").string() +
+                               "' --csv '" + (dir / "metrics-link.json").string() + "'");
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_EQ(readFile(dir / "victim"), "precious");
+    EXPECT_TRUE(fs::is_symlink(dir / "metrics-link.json"));
+    EXPECT_NE(readFile(dir / "real.json").find("relMSE"), std::string::npos);
+    EXPECT_NE(readFile(dir / "metrics.json").find("differenceScale"), std::string::npos);
+
+    // A directory as an output is bad input, reported as such (not "Success").
+    const CliRun onDir = tyndall("compare '" + ref + "' -r '" + ref + "' --json '" + dir.string() + "'");
+    expectRefused(onDir, "--json <directory>", {"--json", "is a directory"});
+}
+
+TEST(Reliability, CompareWritesNothingWhenAnyInputFails) {
+    const fs::path dir = scratch("compare-partial");
+    const std::string project = tinyProject(dir);
+    const std::string a = (dir / "a.exr").string();
+    ASSERT_EQ(tyndall("render '" + project + "' --view ref --spp 1 -o '" + a + "'").exitCode, 0);
+    const CliRun run = tyndall("compare '" + a + "' '" + (dir / "missing.exr").string() + "' -r '" + a +
+                               "' --diff '" + (dir / "{name}-diff.png").string() + "' --json '" +
+                               (dir / "m.json").string() + "'");
+    EXPECT_EQ(run.exitCode, 2) << run.output;
+    EXPECT_NE(run.output.find("missing.exr"), std::string::npos) << run.output;
+    EXPECT_EQ(filesIn(dir), std::vector<std::string>({"a.exr", "tiny.json"}));
+
+    // A PNG holds display values, not linear ones.
+    const std::string png = (dir / "a.png").string();
+    ASSERT_EQ(tyndall("render '" + project + "' --view ref --spp 1 -o '" + png + "'").exitCode, 0);
+    expectRefused(tyndall("compare '" + png + "' -r '" + a + "'"), "a PNG", {"a.png", "must be an .exr file"});
+    expectRefused(tyndall("compare '" + a + "' -r '" + a + "' --diff-scale nan"), "--diff-scale nan", {"--diff-scale"});
+    // A size mismatch names the file.
+    const std::string small = (dir / "small.exr").string();
+    ASSERT_EQ(tyndall("render '" + project + "' --view ref --spp 1 --size 8x8 -o '" + small + "'").exitCode, 0);
+    expectRefused(tyndall("compare '" + small + "' -r '" + a + "'"), "size mismatch", {"small.exr"});
+}
+
+TEST(Reliability, SavingAProjectThroughASymlinkUpdatesItsTarget) {
+    const fs::path dir = scratch("save-symlink");
+    const std::string project = tinyProject(dir);
+    fs::create_directories(dir / "elsewhere");
+    fs::rename(project, dir / "elsewhere" / "real.json");
+    fs::create_symlink("elsewhere/real.json", dir / "link.json");
+    tyndall::Project loaded = tyndall::loadProject((dir / "link.json").string());
+    loaded.name = "saved through the link";
+    tyndall::saveProject(loaded, (dir / "link.json").string());
+    EXPECT_TRUE(fs::is_symlink(dir / "link.json"));
+    EXPECT_EQ(tyndall::loadProject((dir / "elsewhere" / "real.json").string()).name, "saved through the link");
+    EXPECT_EQ(filesIn(dir / "elsewhere"), std::vector<std::string>({"real.json"}));
+}
+
+TEST(Reliability, StaleTemporariesOfDeadWritersAreRemoved) {
+    const fs::path dir = scratch("stale");
+    const std::string project = tinyProject(dir);
+    // Left by a writer that was killed (no process has this pid: pids stay below 2^22 on Linux) and by one that runs.
+    const std::string stale = ".out.exr.tyndall-999999999-AbC123";
+    const std::string live = ".out.exr.tyndall-" + std::to_string(::getpid()) + "-XyZ789";
+    writeFile(dir / stale, "partial");
+    writeFile(dir / live, "in progress");
+    ASSERT_EQ(tyndall("render '" + project + "' --view ref --spp 1 -o '" + (dir / "out.exr").string() + "'").exitCode,
+              0);
+    EXPECT_FALSE(fs::exists(dir / stale));
+    EXPECT_TRUE(fs::exists(dir / live));
+    EXPECT_EQ(tyndall::removeStaleTemporaries((dir / "out.exr").string()), 0);
+}
+
+}  // namespace
