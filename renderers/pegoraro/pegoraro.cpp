@@ -54,7 +54,7 @@ std::vector<ParamInfo> PegoraroTechnique::parameters() const {
          "Terms of the Henyey-Greenstein expansion (order + 1); its truncation error is reported. The closed "
          "form is good to 1e-8 in double up to ~12 terms; at 16 terms to ~2e-5 for g = 0.7 and ~1e-3 for "
          "g = 0.9 (fewer with a spot, whose terms add); from ~20 terms it fails: fallback = auto then computes by "
-         "quadrature, and fallback = never is refused where its error bound exceeds 1e-3. Float: up to ~5 terms",
+         "quadrature, and fallback = never is refused where its error bound exceeds 1e-2. Float: up to ~5 terms",
          "", 1, pegoraro::kMaxHgTerms, std::int64_t(8)});
     p.push_back({"hgTolerance", ParamType::Float,
                  "If > 0, choose the Henyey-Greenstein terms instead of hgTerms: the fewest whose L1 truncation error "

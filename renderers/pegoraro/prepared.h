@@ -24,7 +24,7 @@ enum class Device { Auto, Gpu, Cpu };
 // fallback = never is refused where the closed form's error bound (pegoraroIntegral's, refined by
 // pegoraroSeriesRefine) exceeds this relative error on a set of test configurations: its rounding grows with the order
 // and the size of the polynomials' coefficients, up to garbage (docs/pegoraro.md, Sec. 5).
-inline constexpr double kNeverMaxError = 1e-3;
+inline constexpr double kNeverMaxError = 1e-2;
 
 struct Settings {
     Device device = Device::Auto;

@@ -548,8 +548,8 @@ TEST_F(PegoraroGpu, PixelsAroundALightMatchTheCpu) {
     }
 }
 
-// hgTerms up to 32 with fallback = never: each render is either accurate (within 1e-3 of the quadrature everywhere,
-// fallback = always, good to 1e-6; 1e-3 is the error that makes never refuse) or refused with an InputError naming
+// hgTerms up to 32 with fallback = never: each render is either accurate (within 1e-2 of the quadrature everywhere,
+// fallback = always, good to 1e-6; 1e-2 is the error bound that makes never refuse) or refused with an InputError naming
 // hgTerms. HG g = 0.7 in a haze lit by a spot, in double on the CPU; before, 24 terms rendered garbage silently.
 TEST(PegoraroTechnique, HighOrdersAreAccurateOrRefused) {
     auto technique = createTechnique("pegoraro");
@@ -581,7 +581,7 @@ TEST(PegoraroTechnique, HighOrdersAreAccurateOrRefused) {
                         worst = std::max(worst, std::abs(r.image.at(x, y, c) / exact.image.at(x, y, c) - 1.0));
             std::printf("hgTerms %d, fallback = never: largest relative difference to the quadrature %.2e\n", terms,
                         worst);
-            EXPECT_LE(worst, 1e-3);
+            EXPECT_LE(worst, 1e-2);
         } catch (const InputError& e) {
             ++refused;
             std::printf("hgTerms %d, fallback = never: refused (%s)\n", terms, e.what());
