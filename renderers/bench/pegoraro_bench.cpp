@@ -4,12 +4,15 @@
 // - BM_ClosedFormCpu/order/double: one evaluation (series + integral, one light, one channel) on one CPU core, averaged
 //   over random configurations (H in [1e-2, 20]); BM_QuadratureCpu/order: the fallback quadrature to 1e-6 on the same
 //   configurations. The order where the quadrature becomes cheaper is where the closed form stops paying.
+// - BM_AutoCpu/terms/measured: fallback = auto on one evaluation for Henyey-Greenstein g = 0.7, deciding with the a
+//   priori error bound (0, as before) or with the measured one (1, pegoraroSeriesRefine), with the fallback rates.
 // - BM_TechniqueGpu/order/size: the technique on the GPU (lavapipe here) on a scene with nothing but an infinite
 //   medium (chromatic extinction) whose phase function has that order and an isotropic point light, size x size, one
 //   sample per pixel, shadows off: GPU time per pixel per light (ns) and frames per second, from the renders'
 //   timestamps (the first render compiles the pipeline and is not timed), and the pixels that fell back.
 // - BM_QuadratureGpu/order/size: the same with fallback = always (every evaluation by the quadrature), for the order
 //   where the quadrature would become the cheaper way on the GPU.
+#include "pegoraro/coefficients.h"
 #include "pegoraro/test/closed_form_cases.h"
 
 #include "tyndall/gpu/context.h"
@@ -58,6 +61,49 @@ void BM_QuadratureCpu(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_QuadratureCpu)->DenseRange(0, 32, 4)->Unit(benchmark::kMicrosecond);
+
+// fallback = auto on one evaluation, the case: Henyey-Greenstein g = 0.7 truncated to `terms` Legendre terms,
+// isotropic light. measured = 0: the a priori bound decides, as before pegoraroSeriesRefine; 1: the measured bound
+// decides where the a priori one fails. Past the deciding bound, the quadrature to 1e-6. Interleaved in one run, so
+// that the machine's drift affects both alike; the counter is the fraction that fell back.
+void BM_AutoCpu(benchmark::State& state) {
+    const int terms = int(state.range(0));
+    const bool measured = state.range(1) != 0;
+    tyndall::PhaseFunction phase;
+    phase.kind = tyndall::PhaseKind::HenyeyGreenstein;
+    phase.g = 0.7;
+    tyndall::pegoraro::HgSettings hg;
+    hg.terms = terms;
+    const std::vector<double> polynomial = tyndall::pegoraro::phasePolynomial(phase, hg).c;
+    std::vector<Case> cs = cases(0);
+    for (Case& c : cs) {
+        c.phase = polynomial;
+        c.lightPoly = {1.0};
+    }
+    std::size_t i = 0, fellBack = 0, evaluations = 0;
+    for (auto _ : state) {
+        const Case& c = cs[i++ % cs.size()];
+        const sh::PegoraroPolynomial_double p = toPolynomialD(c.phase), l = toPolynomialD(c.lightPoly);
+        sh::PegoraroSeries_double s;
+        sh::pegoraroSeries(c.del, c.dc, p, l, s);
+        double bound = 0.0;
+        double value = sh::pegoraroIntegral(s, c.H, c.ua, c.ub, bound);
+        if (measured && bound > 1e-4 * std::abs(value)) {
+            sh::pegoraroSeriesRefine(c.del, c.dc, p, l, s);
+            value = sh::pegoraroIntegral(s, c.H, c.ua, c.ub, bound);
+        }
+        if (bound > 1e-4 * std::abs(value)) {
+            int panels = 0;
+            value = sh::pegoraroQuadrature(c.H, c.ua, c.ub, c.del, c.dc, p, l, 1e-6, panels);
+            ++fellBack;
+        }
+        ++evaluations;
+        benchmark::DoNotOptimize(value);
+    }
+    state.counters["fallback"] = double(fellBack) / double(std::max<std::size_t>(evaluations, 1));
+    state.SetLabel(measured ? "measured bound" : "a priori bound");
+}
+BENCHMARK(BM_AutoCpu)->ArgsProduct({{8, 12, 16, 20}, {0, 1}})->Unit(benchmark::kMicrosecond);
 
 Scene mediumOnlyScene(int order, int size = 256) {
     Scene scene;
@@ -109,7 +155,9 @@ void techniqueGpu(benchmark::State& state, const std::string& fallback) {
     state.SetLabel(precision);
 }
 
-void BM_TechniqueGpu(benchmark::State& state) { techniqueGpu(state, "auto"); }
+void BM_TechniqueGpu(benchmark::State& state) {
+    techniqueGpu(state, "auto");
+}
 BENCHMARK(BM_TechniqueGpu)
     ->Args({0, 256})
     ->Args({1, 256})
@@ -125,7 +173,9 @@ BENCHMARK(BM_TechniqueGpu)
 
 // The same scene with every evaluation by the fallback quadrature (to quadratureTolerance, 1e-6), at 64 x 64: where
 // it would become cheaper than the closed form on the GPU.
-void BM_QuadratureGpu(benchmark::State& state) { techniqueGpu(state, "always"); }
+void BM_QuadratureGpu(benchmark::State& state) {
+    techniqueGpu(state, "always");
+}
 BENCHMARK(BM_QuadratureGpu)
     ->Args({0, 64})
     ->Args({4, 64})

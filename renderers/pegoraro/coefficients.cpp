@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 namespace tyndall::pegoraro {
@@ -85,8 +86,12 @@ std::vector<double> hgTaylor(double g, int terms, double mu0) {
     return c;
 }
 
-PhasePolynomial phasePolynomial(const PhaseFunction& phase, const HgSettings& hg) {
-    TY_CHECK(hg.terms >= 1 && hg.terms <= 32, "the Henyey-Greenstein truncation takes 1 to 32 terms");
+namespace {
+
+// The phase polynomial with `terms` terms of the Henyey-Greenstein expansion, its truncation measured against the
+// true function.
+PhasePolynomial phasePolynomialWithTerms(const PhaseFunction& phase, const HgSettings& hg, int terms) {
+    TY_CHECK(terms >= 1 && terms <= kMaxHgTerms, "the Henyey-Greenstein truncation takes 1 to 32 terms");
     PhasePolynomial p;
     switch (phase.kind) {
         case PhaseKind::Isotropic:
@@ -112,7 +117,9 @@ PhasePolynomial phasePolynomial(const PhaseFunction& phase, const HgSettings& hg
         case PhaseKind::HenyeyGreenstein:
         case PhaseKind::IsoHgMix: {
             const double weight = phase.kind == PhaseKind::IsoHgMix ? phase.a : 1.0;
-            p.c = hgPolynomial(phase.g, hg);
+            HgSettings truncated = hg;
+            truncated.terms = terms;
+            p.c = hgPolynomial(phase.g, truncated);
             for (double& x : p.c)
                 x *= weight;
             p.c[0] += (1.0 - weight) * kInvFourPi;
@@ -141,6 +148,27 @@ PhasePolynomial phasePolynomial(const PhaseFunction& phase, const HgSettings& hg
         p.minimum = 0.0;
     }
     return p;
+}
+
+}  // namespace
+
+PhasePolynomial phasePolynomial(const PhaseFunction& phase, const HgSettings& hg) {
+    const bool truncated =
+        (phase.kind == PhaseKind::HenyeyGreenstein || phase.kind == PhaseKind::IsoHgMix) && phase.g != 0.0;
+    if (!truncated || !(hg.tolerance > 0.0)) return phasePolynomialWithTerms(phase, hg, hg.terms);
+    // hgTolerance: the fewest terms whose L1 truncation error meets it (the error falls with the order, but not
+    // always monotonically for the Taylor expansion, so every order is tried from the lowest).
+    PhasePolynomial p;
+    for (int terms = 1; terms <= kMaxHgTerms; ++terms) {
+        p = phasePolynomialWithTerms(phase, hg, terms);
+        if (p.l1Error <= hg.tolerance) return p;
+    }
+    char text[256];
+    std::snprintf(text, sizeof(text),
+                  "hgTolerance = %g is not reached within %d terms for g = %g (%d terms leave an L1 error of %.3g); "
+                  "allowed: hgTolerance >= %.3g for this phase function, or 0 to use hgTerms",
+                  hg.tolerance, kMaxHgTerms, phase.g, kMaxHgTerms, p.l1Error, p.l1Error);
+    throw InputError(InputLocation{"", 0, 0, "hgTolerance"}, text);
 }
 
 }  // namespace tyndall::pegoraro

@@ -12,8 +12,13 @@ namespace tyndall::pegoraro {
 
 enum class HgExpansion { Legendre, Taylor };
 
+inline constexpr int kMaxHgTerms = 32;
+
 struct HgSettings {
-    int terms = 8;  // number of polynomial terms (order + 1), [1, 32]
+    int terms = 8;  // number of polynomial terms (order + 1), [1, kMaxHgTerms]
+    // > 0: the number of terms is instead the fewest whose L1 truncation error (PhasePolynomial::l1Error) is at most
+    // this; 0: `terms`.
+    double tolerance = 0.0;
     HgExpansion expansion = HgExpansion::Legendre;
     double taylorCentre = 0.0;  // mu_0 of the Taylor expansion (Eq. 15), in (-1, 1)
 };
@@ -33,6 +38,7 @@ std::vector<double> hgLegendre(double g, int terms);
 // the derivatives, Eq. 16 the coefficients in powers of mu.
 std::vector<double> hgTaylor(double g, int terms, double mu0);
 
+// Throws InputError (field hgTolerance) when hg.tolerance > 0 is not reached within kMaxHgTerms terms.
 PhasePolynomial phasePolynomial(const PhaseFunction& phase, const HgSettings& hg);
 
 }  // namespace tyndall::pegoraro

@@ -87,6 +87,15 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     gpu::ComputeKernel& first = kernel(variant);
     double compileSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - compileStart).count();
     gpu::Context& ctx = *context_;
+    // The variant with the quadrature's code, for the listed passes (compiled on first use, its time counted).
+    auto fullKernel = [&]() -> gpu::ComputeKernel& {
+        Variant full = variant;
+        full.deferredFallback = false;
+        const auto start = std::chrono::steady_clock::now();
+        gpu::ComputeKernel& k = kernel(full);
+        compileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return k;
+    };
 
     auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
     auto nodes = upload(scene.bvh.nodes);
@@ -107,18 +116,21 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     gpu::Buffer radiance(ctx, samples * sizeof(glm::vec4));
     gpu::Buffer overflows(ctx, samples * sizeof(std::uint32_t));
     std::unique_ptr<gpu::Buffer> list = upload(std::vector<std::uint32_t>{0u});
-    auto bindings = [&] {
-        return std::vector<const gpu::Buffer*>{nodes.get(),        triangles.get(),        frame.get(),
-                                               lights.get(),       media.get(),            coefficients.get(),
-                                               surfaceTriangles.get(), materials.get(),    &radiance,
-                                               &overflows,         list.get()};
+    auto bindings = [&](gpu::Buffer& out, gpu::Buffer& outOverflows) {
+        return std::vector<const gpu::Buffer*>{
+            nodes.get(),        triangles.get(),        frame.get(),     lights.get(), media.get(),
+            coefficients.get(), surfaceTriangles.get(), materials.get(), &out,         &outOverflows,
+            list.get()};
     };
 
     // `count` items of a pass; progress runs over [progressFrom, progressTo). The listed pass starts with a smaller
     // slice: each of its samples runs the quadrature somewhere (up to ~13 ms each on lavapipe).
     double longestMs = 0.0, totalMs = 0.0;
-    auto pass = [&](gpu::ComputeKernel& k, std::uint64_t count, bool listed, double progressFrom, double progressTo) {
-        const std::vector<const gpu::Buffer*> buffers = bindings();
+    // listed: 0 every sample, 1 the samples of the list, 2 the nodes of the list (pixels around a light's projection,
+    // written to `out` in list order).
+    auto pass = [&](gpu::ComputeKernel& k, std::uint64_t count, std::uint32_t listed, double progressFrom,
+                    double progressTo, gpu::Buffer& out, gpu::Buffer& outOverflows) {
+        const std::vector<const gpu::Buffer*> buffers = bindings(out, outOverflows);
         gpu::SliceStats stats;
         try {
             stats = gpu::runSliced(
@@ -126,11 +138,11 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
                 [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t n) {
                     if (callbacks.progress)
                         callbacks.progress(progressFrom + (progressTo - progressFrom) * double(begin) / double(count));
-                    Push push{std::uint32_t(begin), std::uint32_t(count), std::uint32_t(width), listed ? 1u : 0u};
+                    Push push{std::uint32_t(begin), std::uint32_t(count), std::uint32_t(width), listed};
                     k.record(cmd, buffers, &push, std::uint32_t((n + kGroupSize - 1) / kGroupSize));
                     gpu::computeToComputeBarrier(cmd);
                 },
-                callbacks.cancel, 10.0, listed ? 16 : 256);
+                callbacks.cancel, 10.0, listed != 0 ? 16 : 256);
         } catch (...) {
             k.resetDescriptors();
             throw;
@@ -139,7 +151,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         longestMs = std::max(longestMs, stats.longestMs);
         totalMs += stats.totalMs;
     };
-    pass(first, samples, false, 0.0, variant.deferredFallback ? 0.9 : 1.0);
+    pass(first, samples, 0, 0.0, variant.deferredFallback ? 0.9 : 1.0, radiance, overflows);
 
     std::vector<glm::vec4> perSample = radiance.download<glm::vec4>(samples);
     if (variant.deferredFallback) {
@@ -147,13 +159,9 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         for (std::uint64_t i = 0; i < samples; ++i)
             if (perSample[i].w > 0.0f) deferred.push_back(std::uint32_t(i));
         if (!deferred.empty()) {
-            Variant full = variant;
-            full.deferredFallback = false;
-            const auto start = std::chrono::steady_clock::now();
-            gpu::ComputeKernel& second = kernel(full);
-            compileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            gpu::ComputeKernel& second = fullKernel();
             list = upload(deferred);
-            pass(second, deferred.size(), true, 0.9, 1.0);
+            pass(second, deferred.size(), 1, 0.9, 0.95, radiance, overflows);
             perSample = radiance.download<glm::vec4>(samples);
         }
     }
@@ -170,6 +178,42 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
             out.overflows[p] += overflowsPerSample[p * perPixel + k];
         }
         out.radiance[p] = glm::vec4(glm::vec3(sum) / float(perPixel), sum.w);
+    }
+
+    // The pixels around a light's projection: their nodes (pegoraroSingularNode) by the full shader, summed per pixel.
+    std::vector<std::uint32_t> singular;
+    {
+        SceneScope scope(scene);
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                shader::vec2 point;
+                if (shader::pegoraroSingularPoint(scene.frame, x, y, point))
+                    singular.push_back(std::uint32_t(y * width + x));
+            }
+    }
+    if (!singular.empty()) {
+        gpu::ComputeKernel& k = fullKernel();
+        const std::uint32_t perNode = std::uint32_t(shader::kPegoraroSingularNodes);
+        std::vector<std::uint32_t> items;
+        for (std::uint32_t p : singular)
+            for (std::uint32_t node = 0; node < perNode; ++node)
+                items.push_back(p * perNode + node);
+        list = upload(items);
+        gpu::Buffer nodeRadiance(ctx, items.size() * sizeof(glm::vec4));
+        gpu::Buffer nodeOverflows(ctx, items.size() * sizeof(std::uint32_t));
+        pass(k, items.size(), 2, 0.95, 1.0, nodeRadiance, nodeOverflows);
+        const std::vector<glm::vec4> values = nodeRadiance.download<glm::vec4>(items.size());
+        const std::vector<std::uint32_t> nodeOverflowCounts = nodeOverflows.download<std::uint32_t>(items.size());
+        for (std::size_t i = 0; i < singular.size(); ++i) {
+            glm::vec4 sum(0.0f);
+            std::uint32_t overflowSum = 0;
+            for (std::uint32_t node = 0; node < perNode; ++node) {
+                sum += values[i * perNode + node];
+                overflowSum += nodeOverflowCounts[i * perNode + node];
+            }
+            out.radiance[singular[i]] = sum;
+            out.overflows[singular[i]] = overflowSum;
+        }
     }
     out.deviceName = ctx.device().name;
     out.longestSliceMs = longestMs;

@@ -4,11 +4,16 @@
 #include "src/gpu_surfaces.h"
 #include "src/shader_params.h"
 
+#include "shared/rng.h"
+
 #include "tyndall/error.h"
 #include "tyndall/geometry.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <limits>
+#include <type_traits>
 
 namespace tyndall::pegoraro {
 
@@ -47,6 +52,7 @@ Settings settingsFrom(const ParamSet& params) {
     s.hg.terms = int(params.getInt("hgTerms"));
     s.hg.expansion = params.getEnum("hgExpansion") == "taylor" ? HgExpansion::Taylor : HgExpansion::Legendre;
     s.hg.taylorCentre = params.getFloat("hgTaylorCentre");
+    s.hg.tolerance = params.getFloat("hgTolerance");
     const std::string& fallback = params.getEnum("fallback");
     s.fallbackMode = fallback == "never"    ? shader::kPegoraroFallbackNever
                      : fallback == "always" ? shader::kPegoraroFallbackAlways
@@ -122,6 +128,87 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     f.boundsMax = surfaces.boundsMax;
     f.rayOffset = surfaces.rayOffset;
     return p;
+}
+
+namespace {
+
+template <typename Series, typename Polynomial>
+double closedFormErrorEstimateIn(const Polynomial& phase, const Polynomial& light) {
+    using R = decltype(phase.c[0]);
+    using Real = std::remove_cv_t<std::remove_reference_t<R>>;
+    shader::Pcg32 rng = shader::pcg32Seed(16u, 3u);
+    const auto uniform = [&] { return double(shader::pcg32NextFloat(rng)); };
+    const auto unit = [&] {
+        const double z = 2.0 * uniform() - 1.0, phi = 2.0 * 3.14159265358979323846 * uniform();
+        const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+        return glm::dvec3(r * std::cos(phi), r * std::sin(phi), z);
+    };
+    // The error is measured against the brightest the evaluation could be (the isotropic integral times the largest
+    // values of the phase function and the light distribution): relative to the value itself it would be huge wherever
+    // a lobe makes the value nearly zero, which does not show in an image.
+    Real maxPhase = 0, maxLight = 0;
+    for (int k = 0; k <= 256; ++k) {
+        const Real mu = Real(-1.0 + k / 128.0);
+        maxPhase = std::max(maxPhase, std::abs(shader::pegoraroHorner(phase, mu)));
+        maxLight = std::max(maxLight, std::abs(shader::pegoraroHorner(light, mu)));
+    }
+    Polynomial one{};
+    one.terms = 1;
+    one.c[0] = Real(1);
+    double worst = 0.0;
+    for (int i = 0; i < 64; ++i) {
+        // A ray direction, the light's axis and the direction from the light to the foot (perpendicular to the ray).
+        const glm::dvec3 dir = unit(), axis = unit();
+        const glm::dvec3 foot = glm::normalize(glm::cross(dir, unit()));
+        const Real del = Real(glm::dot(dir, axis)), dc = Real(glm::dot(foot, axis));
+        const Real H = Real(1e-2 * std::pow(2000.0, uniform()));
+        const Real ua = Real(10.0 * uniform() - 5.0);
+        const Real ub = uniform() < 0.3 ? Real(shader::kInfinity) : ua + Real(0.01 + 5.0 * uniform());
+        Series s, isotropic;
+        Real bound = 0, unused = 0;
+        shader::pegoraroSeries(del, dc, one, one, isotropic);
+        const double brightest =
+            double(shader::pegoraroIntegral(isotropic, H, ua, ub, unused)) * double(maxPhase) * double(maxLight);
+        shader::pegoraroSeries(del, dc, phase, light, s);
+        shader::pegoraroSeriesRefine(del, dc, phase, light, s);
+        shader::pegoraroIntegral(s, H, ua, ub, bound);
+        if (brightest > 1e-30) worst = std::max(worst, double(bound) / brightest);
+    }
+    return worst;
+}
+
+}  // namespace
+
+double closedFormErrorEstimate(const PreparedScene& scene, int m, int l, bool useDouble) {
+    const shader::PegoraroMedium& medium = scene.media[std::size_t(m)];
+    const shader::PegoraroLight& light = scene.lights[std::size_t(l)];
+    if (useDouble)
+        return closedFormErrorEstimateIn<shader::PegoraroSeries_double>(
+            shader::pegoraroLoadPolynomial_double(medium.firstCoefficient, medium.terms),
+            shader::pegoraroLoadPolynomial_double(light.firstCoefficient, light.terms));
+    return closedFormErrorEstimateIn<shader::PegoraroSeries_float>(
+        shader::pegoraroLoadPolynomial_float(medium.firstCoefficient, medium.terms),
+        shader::pegoraroLoadPolynomial_float(light.firstCoefficient, light.terms));
+}
+
+void checkClosedFormRange(const PreparedScene& scene, const Settings& settings, bool useDouble) {
+    if (settings.fallbackMode != shader::kPegoraroFallbackNever) return;
+    SceneScope scope(scene);
+    for (std::size_t m = 0; m < scene.media.size(); ++m) {
+        for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+            const double estimate = closedFormErrorEstimate(scene, int(m), int(l), useDouble);
+            if (estimate <= kNeverMaxError) continue;
+            char text[512];
+            std::snprintf(text, sizeof(text),
+                          "with fallback = never the closed form of %d terms (phase function %d, light distribution "
+                          "%d) in %s would be off by up to %.2g relative (allowed: %g): lower hgTerms (or raise "
+                          "hgTolerance), use fallback = auto%s",
+                          scene.media[m].terms + scene.lights[l].terms - 1, scene.media[m].terms, scene.lights[l].terms,
+                          useDouble ? "double" : "float", estimate, kNeverMaxError,
+                          useDouble ? "" : ", or precision = double");
+            throw InputError(InputLocation{"", 0, 0, "hgTerms"}, text);
+        }
+    }
 }
 
 SceneScope::SceneScope(const PreparedScene& scene) : previous_(gBound), bvh_(scene.bvh) {

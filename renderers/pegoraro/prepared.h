@@ -21,6 +21,11 @@ inline constexpr int kAutoFloatMaxOrder = 4;
 
 enum class Device { Auto, Gpu, Cpu };
 
+// fallback = never is refused where the closed form's error bound (pegoraroIntegral's, refined by
+// pegoraroSeriesRefine) exceeds this relative error on a set of test configurations: its rounding grows with the order
+// and the size of the polynomials' coefficients, up to garbage (docs/pegoraro.md, Sec. 5).
+inline constexpr double kNeverMaxError = 1e-2;
+
 struct Settings {
     Device device = Device::Auto;
     Precision precision = Precision::Auto;
@@ -38,7 +43,7 @@ struct PreparedScene {
     shader::PegoraroFrame frame{};
     std::vector<shader::PegoraroLight> lights;
     std::vector<shader::PegoraroMedium> media;
-    std::vector<glm::vec2> coefficients;  // (hi, lo) float pairs, value = hi + lo
+    std::vector<glm::vec2> coefficients;             // (hi, lo) float pairs, value = hi + lo
     std::vector<shader::SurfaceTriangle> triangles;  // never empty (a dummy when the scene has no triangle)
     std::size_t triangleCount = 0;                   // the scene's triangles
     std::vector<shader::MaterialParams> materials;
@@ -49,6 +54,16 @@ struct PreparedScene {
 
 // Throws InputError for scene content the technique cannot render or that is inconsistent.
 PreparedScene prepareScene(const Scene& scene, const Settings& settings, const std::string& projectDir);
+
+// The largest error bound of the closed form for the phase function of medium m and the distribution of light l, in
+// double or float, over 64 fixed pseudo-random configurations (geometry, optical depth, interval), relative to the
+// brightest that configuration could be (its isotropic integral times the maxima of both polynomials). Needs a
+// SceneScope.
+double closedFormErrorEstimate(const PreparedScene& scene, int m, int l, bool useDouble);
+
+// Throws InputError (field hgTerms) when fallback = never asks for the closed form where closedFormErrorEstimate
+// exceeds kNeverMaxError for some pair (medium, light).
+void checkClosedFormRange(const PreparedScene& scene, const Settings& settings, bool useDouble);
 
 // Binds a prepared scene to the calling thread for the C++ definitions of the accessors of pegoraro_scene.h (and its
 // BVH for bvh.h's), so that the shared per-pixel renderer runs on the CPU. The scene must outlive the scope.

@@ -11,6 +11,8 @@
 //   TY_PEGORARO_GREY          the extinction is the same in every channel: one closed form per evaluation, not three
 //   TY_PEGORARO_DEFERRED_FALLBACK  the first pass: no quadrature code; an evaluation that needs it is counted in w, and
 //                             the host renders those samples again with the full shader over a list (push.listed)
+// The pixels around a light's projection are rendered by the full shader once more, node by node over a list
+// (push.listed = 2; pegoraroSingularNode in shared/pegoraro_scene.h).
 // The build compiles this file as it is (float, 40 terms) so that CI validates it with spirv-val.
 #extension GL_GOOGLE_include_directive : require
 
@@ -39,7 +41,8 @@ layout(push_constant) uniform Push {
     uint first;   // first sample (or, with listed, first list entry) of this dispatch
     uint count;   // samples in the image, width * height * S * S (or, with listed, entries in the list)
     uint width;
-    uint listed;  // 1: invocation i renders sample sampleList[first + i]
+    uint listed;  // 1: invocation i renders sample sampleList[first + i]; 2: node sampleList[first + i] of a pixel
+                  // around a light's projection, written to radiance[first + i]
 } push;
 
 PegoraroLight pegoraroLight(int i) { return lights[i]; }
@@ -51,6 +54,26 @@ MaterialParams surfaceMaterial(int i) { return materials[i]; }
 void main() {
     uint i = push.first + gl_GlobalInvocationID.x;
     if (i >= push.count) return;
+    if (push.listed == 2u) {
+        // A node of a pixel around a light's projection: the list holds pixel * kPegoraroSingularNodes + node.
+        uint item = sampleList[i];
+        uint pixel = item / uint(kPegoraroSingularNodes);
+        int node = int(item - pixel * uint(kPegoraroSingularNodes));
+        int px = int(pixel % push.width), py = int(pixel / push.width);
+        vec2 p;
+        int overflowCount = 0;
+        vec4 value = vec4(0.0f);
+        if (pegoraroSingularPoint(frame, px, py, p)) {
+#ifdef TY_ENABLE_DOUBLE
+            value = pegoraroSingularSample_double(frame, px, py, p, node, overflowCount);
+#else
+            value = pegoraroSingularSample_float(frame, px, py, p, node, overflowCount);
+#endif
+        }
+        radiance[i] = value;
+        overflows[i] = uint(overflowCount);
+        return;
+    }
     if (push.listed != 0u) i = sampleList[i];
     uint samples = uint(max(frame.supersampling, 1) * max(frame.supersampling, 1));
     uint pixel = i / samples;

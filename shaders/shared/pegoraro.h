@@ -13,6 +13,8 @@
 //
 // Functions, for both precisions (TY_R = float or double):
 //   pegoraroSeries      Eq. 17-21: the rational series of Phi_c * I_c in v, as partial-fraction coefficients B_j;
+//   pegoraroSeriesRefine  a measured (not a priori) bound on the rounding error of the B_j, where the a priori one
+//                       would send the evaluation to the fallback;
 //   pegoraroIntegral    Eq. 22, 29, 30: I over [ua, ub] from the B_j, with a running error bound;
 //   pegoraroQuadrature  adaptive Simpson quadrature of the same I in the angle theta = atan(u): the fallback.
 // In GLSL the double versions exist only when the includer defines TY_ENABLE_DOUBLE (they need shaderFloat64).
@@ -45,6 +47,12 @@ TY_CONST int kPegoraroQuadratureMaxPanels = 20000;
 // measured ratio of actual to estimated error on the CPU is 0.63 with these).
 TY_CONST float kPegoraroExpintUlps = 64.0f;
 TY_CONST float kPegoraroCoefficientWeight = 0.5f;
+// pegoraroSeriesRefine: the factor on the measured rounding error of each b_j (the difference of two computations
+// whose errors are nearly independent: it can come out smaller than either error, which this allows for; with the
+// coefficient weight above and pegoraroIntegral's factor 4 the bound counts 16 times the difference), and a floor of a
+// few units of roundoff of |b_j|.
+TY_CONST float kPegoraroRefineWeight = 8.0f;
+TY_CONST float kPegoraroRefineFloor = 4.0f;
 
 TY_END
 

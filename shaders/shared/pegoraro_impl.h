@@ -51,8 +51,11 @@ TY_FUNC TY_R pegoraroV(TY_R u) {
 // coefficients in O(N^2). The partial fractions of P(v) / (1 + v^2)^N at v = i (z = v - i) are
 //   b_j = [z^(N-j)] P(z + i) (z + 2i)^(-N),
 // a Taylor shift of P by i followed by a truncated product with the binomial series of (z + 2i)^(-N).
-TY_FUNC void pegoraroSeries(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) phase,
-                            TY_IN(TY_RS(PegoraroPolynomial)) light, TY_OUT(TY_RS(PegoraroSeries)) s) {
+// pegoraroSeriesScaled computes the same with the phase coefficients multiplied by phaseScale, the light's by
+// lightScale and the binomial series by sigmaScale: b_j times their product (see pegoraroSeriesRefine).
+TY_FUNC void pegoraroSeriesScaled(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) phase,
+                                  TY_IN(TY_RS(PegoraroPolynomial)) light, TY_R phaseScale, TY_R lightScale,
+                                  TY_R sigmaScale, TY_OUT(TY_RS(PegoraroSeries)) s) {
     int nPhi = phase.terms;
     int nI = light.terms;
     int N = nPhi + nI - 1;
@@ -65,7 +68,7 @@ TY_FUNC void pegoraroSeries(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) 
     if (kPegoraroMaxTerms == 1) {
         // A shader variant for isotropic phase and light (N = 1): P = cPhi_0 cI_0 and b_1 = P (2i)^(-1), what the
         // general path below gives. Its loops would each run once on lavapipe, which does not skip a loop of no trip.
-        TY_R p = phase.c[0] * light.c[0];
+        TY_R p = phaseScale * phase.c[0] * lightScale * light.c[0] * sigmaScale;
         s.b[0] = TY_R2(zero, -TY_R(0.5f) * p);
         s.bAbs[0] = TY_R(0.5f) * abs(p);
         return;
@@ -84,7 +87,7 @@ TY_FUNC void pegoraroSeries(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) 
     }
 
     // A: start from the top coefficient; each step multiplies by x = 1 - v^2 and adds c_m (1 + v^2)^(N_phi-1-m).
-    a[0] = phase.c[nPhi - 1];
+    a[0] = phaseScale * phase.c[nPhi - 1];
     aAbs[0] = abs(a[0]);
     y[0] = one;
     for (int m = nPhi - 2; m >= 0; --m) {
@@ -94,9 +97,10 @@ TY_FUNC void pegoraroSeries(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) 
             aAbs[k] = aAbs[k - 2] + (k <= degree ? aAbs[k] : zero);
             y[k] = y[k - 2] + (k <= degree ? y[k] : zero);
         }
+        TY_R cm = phaseScale * phase.c[m];
         for (int k = 0; k <= degree + 2; ++k) {
-            a[k] += phase.c[m] * y[k];
-            aAbs[k] += abs(phase.c[m]) * y[k];
+            a[k] += cm * y[k];
+            aAbs[k] += abs(cm) * y[k];
         }
     }
     int degreeA = 2 * (nPhi - 1);
@@ -104,7 +108,7 @@ TY_FUNC void pegoraroSeries(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) 
     // L: the same with x = del v^2 + 2 dc v - del.
     for (int k = 0; k <= kPegoraroMaxDegree; ++k)
         y[k] = zero;
-    l[0] = light.c[nI - 1];
+    l[0] = lightScale * light.c[nI - 1];
     lAbs[0] = abs(l[0]);
     y[0] = one;
     TY_R x0 = -del, x1 = TY_R(2.0f) * dc, x2 = del;
@@ -121,9 +125,10 @@ TY_FUNC void pegoraroSeries(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) 
             lAbs[k] = abs(x0) * ak + abs(x1) * ak1 + abs(x2) * ak2;
             if (k >= 2) y[k] = y[k - 2] + (k <= degree ? y[k] : zero);
         }
+        TY_R cn = lightScale * light.c[n];
         for (int k = 0; k <= degree + 2; ++k) {
-            l[k] += light.c[n] * y[k];
-            lAbs[k] += abs(light.c[n]) * y[k];
+            l[k] += cn * y[k];
+            lAbs[k] += abs(cn) * y[k];
         }
     }
     int degreeL = 2 * (nI - 1);
@@ -152,7 +157,7 @@ TY_FUNC void pegoraroSeries(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) 
     // (z + 2i)^(-N) = sum_p sigma_p z^p: sigma_0 = (2i)^(-N) = 2^(-N) (-i)^N, sigma_(p+1) = sigma_p (N + p) / (p + 1) i
     // / 2.
     TY_R2 sigma[kPegoraroMaxTerms];
-    TY_R scale = one;
+    TY_R scale = sigmaScale;
     for (int k = 0; k < N; ++k)
         scale *= TY_R(0.5f);
     int phase4 = N - 4 * (N / 4);
@@ -177,6 +182,31 @@ TY_FUNC void pegoraroSeries(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) 
     for (int j = N; j < kPegoraroMaxTerms; ++j) {
         s.b[j] = TY_R2(zero, zero);
         s.bAbs[j] = zero;
+    }
+}
+
+TY_FUNC void pegoraroSeries(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) phase,
+                            TY_IN(TY_RS(PegoraroPolynomial)) light, TY_OUT(TY_RS(PegoraroSeries)) s) {
+    pegoraroSeriesScaled(del, dc, phase, light, TY_R(1.0f), TY_R(1.0f), TY_R(1.0f), s);
+}
+
+// A second opinion on the rounding error of the b_j (docs/pegoraro.md, Sec. 4), for where the a priori bound of
+// pegoraroSeries (bAbs: every term's magnitude, as if every rounding added up) is too pessimistic to use the closed
+// form. The series is computed again with the phase coefficients scaled by 3, the light's by 5 and the binomial series
+// by 3: in exact arithmetic 45 times the same b_j, but every rounding on the way falls differently (the scales are not
+// powers of two), so |b_j - b'_j / 45| measures the rounding error of b_j itself. bAbs_j becomes
+// kPegoraroRefineWeight times that, plus kPegoraroRefineFloor units of roundoff of |b_j|, in units of roundoff, the
+// quantity pegoraroIntegral's bound weighs with kPegoraroCoefficientWeight.
+TY_FUNC void pegoraroSeriesRefine(TY_R del, TY_R dc, TY_IN(TY_RS(PegoraroPolynomial)) phase,
+                                  TY_IN(TY_RS(PegoraroPolynomial)) light, TY_INOUT(TY_RS(PegoraroSeries)) s) {
+    TY_RS(PegoraroSeries) second;
+    pegoraroSeriesScaled(del, dc, phase, light, TY_R(3.0f), TY_R(5.0f), TY_R(3.0f), second);
+    TY_R unscale = TY_R(1.0f) / TY_R(45.0f);
+    for (int j = 0; j < s.terms; ++j) {
+        TY_R2 difference = s.b[j] - second.b[j] * unscale;
+        s.bAbs[j] = (TY_R(kPegoraroRefineWeight) * cAbs(difference) +
+                     TY_R(kPegoraroRefineFloor) * TY_R(TY_R_EPSILON) * cAbs(s.b[j])) /
+                    TY_R(TY_R_EPSILON);
     }
 }
 

@@ -14,21 +14,38 @@ TY_FUNC TY_RS(PegoraroPolynomial) TY_RS(pegoraroLoadPolynomial)(int first, int t
     return p;
 }
 
-// I over [ua, ub] (pegoraro.h) for one channel: the closed form, or the quadrature where the closed form's error bound
-// exceeds the tolerance (counted in `fallbacks`).
-TY_FUNC TY_R pegoraroChannel(TY_IN(PegoraroFrame) f, TY_IN(TY_RS(PegoraroSeries)) s,
+// I over [ua, ub] (pegoraro.h) for one channel: the closed form with its a priori error bound; where that bound exceeds
+// the tolerance, the bound measured by pegoraroSeriesRefine (once per series: `refined`); where that exceeds it too,
+// the quadrature (counted in `fallbacks`).
+TY_FUNC TY_R TY_RS(pegoraroClosedForm)(TY_IN(TY_RS(PegoraroSeries)) s, TY_R H, TY_R ua, TY_R ub,
+                                       TY_OUT(TY_R) errorBound) {
+#ifdef TY_PEGORARO_NO_SURFACES  // nothing ends or shadows a ray: every interval runs to infinity
+    return pegoraroIntegralToInfinity(s, H, ua, errorBound);
+#else
+    return pegoraroIntegral(s, H, ua, ub, errorBound);
+#endif
+}
+
+TY_FUNC TY_R pegoraroChannel(TY_IN(PegoraroFrame) f, TY_INOUT(TY_RS(PegoraroSeries)) s, TY_INOUT(bool) refined,
                              TY_IN(TY_RS(PegoraroPolynomial)) phase, TY_IN(TY_RS(PegoraroPolynomial)) light, TY_R H,
                              TY_R ua, TY_R ub, TY_R del, TY_R dc, TY_INOUT(int) fallbacks) {
     bool quadrature = f.fallbackMode == kPegoraroFallbackAlways || s.terms == 0;
     TY_R value = TY_R(0.0f);
     if (!quadrature) {
         TY_R errorBound;
-#ifdef TY_PEGORARO_NO_SURFACES  // nothing ends or shadows a ray: every interval runs to infinity
-        value = pegoraroIntegralToInfinity(s, H, ua, errorBound);
-#else
-        value = pegoraroIntegral(s, H, ua, ub, errorBound);
-#endif
+        value = TY_RS(pegoraroClosedForm)(s, H, ua, ub, errorBound);
         quadrature = f.fallbackMode == kPegoraroFallbackAuto && errorBound > TY_R(f.fallbackTolerance) * abs(value);
+#if TY_PEGORARO_MAX_TERMS > 8 && !defined(TY_PEGORARO_DEFERRED_FALLBACK)
+        // Up to order 7 the a priori bound is below 1e-8 in double (docs/pegoraro.md, Sec. 5), so the variants of
+        // few terms go without this code (lavapipe would run it for every evaluation); so does the first GPU pass,
+        // which defers these evaluations to the full shader.
+        if (quadrature && !refined) {
+            pegoraroSeriesRefine(del, dc, phase, light, s);
+            refined = true;
+            value = TY_RS(pegoraroClosedForm)(s, H, ua, ub, errorBound);
+            quadrature = errorBound > TY_R(f.fallbackTolerance) * abs(value);
+        }
+#endif
     }
 #ifdef TY_PEGORARO_DEFERRED_FALLBACK
     // The first pass of the GPU renderer: no quadrature code (lavapipe would run it for every evaluation, taken or
@@ -76,6 +93,7 @@ TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(Pegorar
         TY_RS(PegoraroPolynomial) phase = TY_RS(pegoraroLoadPolynomial)(medium.firstCoefficient, medium.terms);
         TY_RS(PegoraroSeries) s;
         pegoraroSeries(del, dc, phase, lightPolynomial, s);
+        bool refined = false;
         for (int i = 0; i < pieces; ++i) {
             TY_R ta = TY_R(lit.pieces[i].x);
             TY_R ua = (ta - xh) / h;
@@ -84,9 +102,9 @@ TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(Pegorar
             for (int c = 0; c < kPegoraroChannelLoop; ++c) {
                 if (c > 0 && grey) continue;
                 TY_R sigmaT = TY_R(f.sigmaT[c]);
-                integral[c] =
-                    float(pegoraroChannel(f, s, phase, lightPolynomial, sigmaT * h, ua, ub, del, dc, fallbacks) *
-                          realExp(-sigmaT * ta) / h);
+                integral[c] = float(
+                    pegoraroChannel(f, s, refined, phase, lightPolynomial, sigmaT * h, ua, ub, del, dc, fallbacks) *
+                    realExp(-sigmaT * ta) / h);
             }
             if (grey) integral = vec3(integral[0]);
             // Eq. 4: Lm = sigma_s / h * I, with the transmittance e^(-sigma_t ta) from the camera to the interval.
@@ -150,11 +168,28 @@ TY_FUNC vec4 TY_RS(pegoraroSample)(TY_IN(PegoraroFrame) f, int px, int py, int k
                               overflows);
 }
 
-// The pixel (px, py): the mean of its S x S samples (radiance in xyz) and the sum of their fallbacks (w).
+// Node `node` of a pixel around a light's projection p (pegoraroSingularNode): its radiance times its weight in xyz,
+// its fallbacks in w. The pixel's average is the sum over its kPegoraroSingularNodes nodes.
+TY_FUNC vec4 TY_RS(pegoraroSingularSample)(TY_IN(PegoraroFrame) f, int px, int py, TY_IN(vec2) p, int node,
+                                           TY_INOUT(int) overflows) {
+    vec3 x = pegoraroSingularNode(px, py, p, node);
+    if (x.z == 0.0f) return vec4(0.0f);
+    vec4 r = TY_RS(pegoraroRay)(f, x.x, x.y, overflows);
+    return vec4(x.z * vec3(r), r.w);
+}
+
+// The pixel (px, py): the mean of its S x S samples (radiance in xyz) and the sum of their fallbacks (w); around a
+// light's projection, the singularity-cancelling rule of pegoraroSingularNode instead.
 TY_FUNC vec4 TY_RS(pegoraroPixel)(TY_IN(PegoraroFrame) f, int px, int py, TY_OUT(int) overflows) {
     overflows = 0;
-    int S = max(f.supersampling, 1);
     vec4 sum = vec4(0.0f);
+    vec2 p;
+    if (pegoraroSingularPoint(f, px, py, p)) {
+        for (int k = 0; k < kPegoraroSingularNodes; ++k)
+            sum += TY_RS(pegoraroSingularSample)(f, px, py, p, k, overflows);
+        return sum;
+    }
+    int S = max(f.supersampling, 1);
     for (int k = 0; k < S * S; ++k)
         sum += TY_RS(pegoraroSample)(f, px, py, k, overflows);
     return vec4(vec3(sum) / float(S * S), sum.w);
