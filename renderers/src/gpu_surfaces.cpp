@@ -52,7 +52,13 @@ GpuSurfaces prepareGpuSurfaces(const Scene& scene, const std::string& projectDir
     s.boundsMin = lo;
     s.boundsMax = hi;
     const glm::vec3 extent = meshes.empty() ? glm::vec3(1.0f) : hi - lo;
-    s.rayOffset = 1e-4f * std::max(1e-3f, glm::length(extent));
+    // Rays leaving a surface start this far along its normal. 1e-4 of the extent (the old value) moved the point from
+    // which WVDS measures a surface's light path by millimetres and biased it against the reference, which now shades
+    // at the hit point itself (WvdsAgainstReference.SeveralLightsAGoboAndAPolyhedron: relMSE 4.8e-6 against a bound of
+    // 4.3e-6, 2.9e-6 with 1e-6). 1e-6 of the extent is still ~16 float ulps of the coordinates, clear of the float
+    // BVH's self-intersections in the tests; an offset from the hit point's error bound, as the reference has, is the
+    // next step (issue 16).
+    s.rayOffset = 1e-6f * std::max(1e-3f, glm::length(extent));
     return s;
 }
 
