@@ -170,11 +170,7 @@ RenderResult ReferenceTechnique::render(const RenderRequest& request, const Rend
         done = end;
         const double passSeconds = std::chrono::duration<double>(Clock::now() - passStart).count();
         const double total = elapsed();
-        if (callbacks.progress) {
-            double fraction = double(done) / targetSpp;
-            if (request.timeLimit > 0.0) fraction = std::max(fraction, total / request.timeLimit);
-            callbacks.progress(std::min(1.0, fraction));
-        }
+        if (callbacks.progress) callbacks.progress(progressFraction(done, targetSpp, total, request.timeLimit));
         if (request.timeLimit > 0.0 && total >= request.timeLimit) break;
         if (callbacks.intermediate && done < targetSpp) callbacks.intermediate(resolve(acc, done), done);
         // Grow passes while they are short, so that intermediate images come about every half second.
