@@ -3,6 +3,7 @@
 #include "tyndall/params.h"
 #include "tyndall/technique.h"
 
+#include "ltsd/ltsd.h"
 #include "pegoraro/pegoraro.h"
 #include "wvds/wvds.h"
 #include "reference/reference.h"
@@ -20,6 +21,7 @@ struct Registry {
     Registry() {
         factories["reference"] = [] { return std::make_unique<ReferenceTechnique>(); };
         factories["pegoraro"] = [] { return std::make_unique<PegoraroTechnique>(); };
+        factories["ltsd"] = [] { return std::make_unique<LtsdTechnique>(); };
         factories["wvds"] = [] { return std::make_unique<WvdsTechnique>(); };
     }
 };

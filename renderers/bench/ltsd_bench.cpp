@@ -1,0 +1,74 @@
+// Frame time of the LTSD technique at 512 x 512 on the example room (projects/examples/ltsd-room.json), for N = 1, 8,
+// 64 quadrature nodes with one light (the ceiling panel) and with four (the room's two and two more panels):
+//   build/renderers/bench/tyndall_ltsd_technique_bench
+// - BM_LtsdGpu/N/lights: GPU time on the Vulkan device (lavapipe here) from its timestamps; the first render compiles
+//   the pipeline and is not timed. Target (issue 18) on lavapipe: N = 8, one light, >= 20 frames/s (<= 50 ms).
+// - BM_LtsdCpu/N/lights: wall time of the CPU path (every core).
+// - BM_LtsdGpuTransmittancePolygon/N: one light with the polygon-averaged transmittance instead of Eq. 10.
+#include "tyndall/project.h"
+#include "tyndall/render.h"
+
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <vector>
+
+using namespace tyndall;
+
+namespace {
+
+const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/ltsd-room.json";
+
+RenderJob frameJob(int nodes, int lights, const std::string& device, const std::string& transmittance = "min-distance") {
+    std::vector<std::string> overrides = {"camera.width=512", "camera.height=512",
+                                          "views[ltsd].parameters.device=" + device,
+                                          "views[ltsd].parameters.nodes=" + std::to_string(nodes),
+                                          "views[ltsd].parameters.transmittance=" + transmittance};
+    if (lights == 1) overrides.push_back("views[ltsd].lights=[\"ceiling panel\"]");
+    if (lights == 4) {
+        overrides.push_back(R"(lights[+]={"name": "panel 3", "type": "area", "radiance": [5, 5, 5],
+            "vertices": [[0.6, 2.9, -1.3], [1.2, 2.9, -1.3], [1.2, 2.9, -0.7], [0.6, 2.9, -0.7]]})");
+        overrides.push_back(R"(lights[+]={"name": "panel 4", "type": "area", "radiance": [5, 5, 5],
+            "vertices": [[-1.2, 2.9, 0.2], [-0.6, 2.9, 0.2], [-0.6, 2.9, 0.8], [-1.2, 2.9, 0.8]]})");
+    }
+    const Project project = loadProject(kProject, overrides);
+    return makeViewJob(project, kProject, "ltsd", {});
+}
+
+void BM_LtsdGpu(benchmark::State& state) {
+    RenderJob job = frameJob(int(state.range(0)), int(state.range(1)), "gpu");
+    runJob(job);  // compiles the pipeline
+    double longest = 0.0;
+    for (auto _ : state) {
+        const RenderResult r = runJob(job);
+        state.SetIterationTime(std::stod(r.image.metadata.at("gpu:totalMs")) * 1e-3);
+        longest = std::stod(r.image.metadata.at("gpu:longestSliceMs"));
+    }
+    state.counters["longestSliceMs"] = longest;
+}
+BENCHMARK(BM_LtsdGpu)
+    ->ArgsProduct({{1, 8, 64}, {1, 4}})
+    ->UseManualTime()
+    ->Iterations(3)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_LtsdGpuTransmittancePolygon(benchmark::State& state) {
+    RenderJob job = frameJob(int(state.range(0)), 1, "gpu", "polygon");
+    runJob(job);
+    for (auto _ : state) {
+        const RenderResult r = runJob(job);
+        state.SetIterationTime(std::stod(r.image.metadata.at("gpu:totalMs")) * 1e-3);
+    }
+}
+BENCHMARK(BM_LtsdGpuTransmittancePolygon)->Arg(8)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
+
+void BM_LtsdCpu(benchmark::State& state) {
+    RenderJob job = frameJob(int(state.range(0)), int(state.range(1)), "cpu");
+    for (auto _ : state)
+        benchmark::DoNotOptimize(runJob(job));
+}
+BENCHMARK(BM_LtsdCpu)->ArgsProduct({{1, 8, 64}, {1, 4}})->Iterations(2)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

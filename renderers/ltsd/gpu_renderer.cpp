@@ -1,0 +1,108 @@
+#include "ltsd/gpu_renderer.h"
+
+#include "tyndall/error.h"
+#include "tyndall/gpu/shader_compiler.h"
+#include "tyndall/gpu/slicer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <sstream>
+
+namespace tyndall::ltsd {
+
+namespace {
+
+constexpr std::uint32_t kGroupSize = 64;
+
+struct Push {
+    std::uint32_t first;  // first pixel of this dispatch
+    std::uint32_t count;  // pixels in the image
+    std::uint32_t width;
+    std::uint32_t pad;
+};
+
+std::string shaderPath() {
+    return std::string(TYNDALL_SHADER_DIR) + "/ltsd/ltsd.comp.glsl";
+}
+
+}  // namespace
+
+GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
+
+gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, double& compileSeconds) {
+    const shader::LtsdFrame& f = scene.frame;
+    const bool words = context_->device().shaderFloat64;
+    const bool medium = f.hasMedium != 0;
+    const bool surfaces = scene.surfaces.triangleCount > 0;
+    const std::string key = std::to_string(f.lightCount) + "l-" + std::to_string(f.planeCount) + "p-" +
+                            std::to_string(f.placement) + "-" + std::to_string(f.transmittance) +
+                            (medium ? "" : "-nomedium") + (surfaces ? "" : "-nosurfaces") +
+                            (scene.anyTwoSided ? "-twosided" : "") + (words ? "-w" : "");
+    auto it = kernels_.find(key);
+    if (it != kernels_.end()) return *it->second;
+    const auto start = std::chrono::steady_clock::now();
+    std::ifstream file(shaderPath());
+    if (!file) throw gpu::GpuError("cannot read the shader " + shaderPath());
+    std::stringstream text;
+    text << file.rdbuf();
+    std::string source = text.str();
+    std::string defines = "#define TY_LTSD_LIGHTS " + std::to_string(f.lightCount) + "\n#define TY_LTSD_PLANES " +
+                          std::to_string(f.planeCount) + "\n#define TY_LTSD_PLACEMENT " +
+                          std::to_string(f.placement) + "\n#define TY_LTSD_TRANSMITTANCE " +
+                          std::to_string(f.transmittance) + "\n";
+    if (!medium) defines += "#define TY_LTSD_NO_MEDIUM\n";
+    if (!surfaces) defines += "#define TY_LTSD_NO_SURFACES\n";
+    if (!scene.anyTwoSided) defines += "#define TY_LTSD_ONE_SIDED\n";
+    if (words) defines += "#define TY_BVH_WORDS\n";
+    source.insert(source.find('\n') + 1, defines + "#line 2\n");
+    gpu::CompileResult compiled = gpu::compileGlslSource(source, shaderPath(), gpu::ShaderStage::Compute);
+    if (!compiled.ok) throw gpu::ShaderError(*compiled.error);
+    auto k =
+        std::make_unique<gpu::ComputeKernel>(*context_, compiled.spirv, 8, std::uint32_t(sizeof(Push)), "ltsd_" + key);
+    compileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return *kernels_.emplace(key, std::move(k)).first->second;
+}
+
+GpuOutput GpuRenderer::render(const PreparedScene& scene, int width, int height, const RenderCallbacks& callbacks) {
+    GpuOutput out;
+    gpu::ComputeKernel& k = kernel(scene, out.compileSeconds);
+    gpu::Context& ctx = *context_;
+    auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
+    auto nodes = upload(scene.surfaces.bvh.nodes);
+    auto triangles = upload(scene.surfaces.bvh.triangles);
+    auto frame = std::make_unique<gpu::Buffer>(ctx, sizeof(shader::LtsdFrame));
+    frame->upload(&scene.frame, sizeof(shader::LtsdFrame));
+    auto lights = upload(scene.lights);
+    auto planes = upload(scene.planes);
+    auto surfaceTriangles = upload(scene.surfaces.triangles);
+    auto materials = upload(scene.surfaces.materials);
+    const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
+    gpu::Buffer radiance(ctx, pixels * sizeof(glm::vec4));
+    const std::vector<const gpu::Buffer*> bindings{nodes.get(),  triangles.get(),        frame.get(),
+                                                   lights.get(), planes.get(),           surfaceTriangles.get(),
+                                                   materials.get(), &radiance};
+    gpu::SliceStats stats;
+    try {
+        stats = gpu::runSliced(
+            ctx, pixels,
+            [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t n) {
+                if (callbacks.progress) callbacks.progress(double(begin) / double(pixels));
+                Push push{std::uint32_t(begin), std::uint32_t(pixels), std::uint32_t(width), 0u};
+                k.record(cmd, bindings, &push, std::uint32_t((n + kGroupSize - 1) / kGroupSize));
+                gpu::computeToComputeBarrier(cmd);
+            },
+            callbacks.cancel, 10.0, 1024);
+    } catch (...) {
+        k.resetDescriptors();
+        throw;
+    }
+    k.resetDescriptors();
+    out.radiance = radiance.download<glm::vec4>(pixels);
+    out.deviceName = ctx.device().name;
+    out.longestSliceMs = stats.longestMs;
+    out.gpuMs = stats.totalMs;
+    return out;
+}
+
+}  // namespace tyndall::ltsd

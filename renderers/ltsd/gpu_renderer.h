@@ -1,0 +1,40 @@
+// The LTSD technique on the GPU: uploads a prepared scene and runs shaders/ltsd/ltsd.comp.glsl, one invocation per
+// pixel, in slices of about 10 ms (tyndall/gpu/slicer.h) so that a render can be cancelled between slices.
+#pragma once
+
+#include "ltsd/prepared.h"
+
+#include "tyndall/gpu/context.h"
+#include "tyndall/gpu/resources.h"
+#include "tyndall/technique.h"
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace tyndall::ltsd {
+
+struct GpuOutput {
+    std::vector<glm::vec4> radiance;  // per pixel, rgb
+    std::string deviceName;
+    double longestSliceMs = 0.0;
+    double gpuMs = 0.0;
+    double compileSeconds = 0.0;  // building the pipeline (0 when it was cached)
+};
+
+class GpuRenderer {
+public:
+    GpuRenderer();  // on gpu::sharedContext(); throws GpuError without Vulkan
+
+    // Throws Cancelled, GpuError, ShaderError.
+    GpuOutput render(const PreparedScene& scene, int width, int height, const RenderCallbacks& callbacks);
+
+private:
+    gpu::ComputeKernel& kernel(const PreparedScene& scene, double& compileSeconds);
+
+    std::shared_ptr<gpu::Context> context_;
+    std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels_;  // by variant
+};
+
+}  // namespace tyndall::ltsd

@@ -1,0 +1,177 @@
+#include "ltsd/prepared.h"
+
+#include "src/shader_params.h"
+
+#include "tyndall/error.h"
+#include "tyndall/geometry.h"
+#include "tyndall/ltsd_table.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tyndall::ltsd {
+
+namespace {
+
+thread_local const PreparedScene* gBound = nullptr;
+
+const PreparedScene& bound() {
+    TY_CHECK(gBound != nullptr, "the LTSD accessors need a SceneScope on this thread");
+    return *gBound;
+}
+
+int indexOf(const std::vector<std::string>& names, const std::string& name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    TY_CHECK(it != names.end(), "ParamSet validated the enum");
+    return int(it - names.begin());
+}
+
+// A light's polygon with its normal; the scene loader has checked that it is planar, convex and of non-zero area.
+shader::LtsdLight toLight(const AreaLight& a) {
+    shader::LtsdLight l{};
+    const std::size_t n = a.vertices.size();
+    glm::dvec3 normal(0.0), centroid(0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        normal += glm::cross(a.vertices[i], a.vertices[(i + 1) % n]);  // Newell: twice the vector area
+        centroid += a.vertices[i];
+        l.vertices[i] = glm::vec4(glm::vec3(a.vertices[i]), 0.0f);
+    }
+    l.vertexCount = int(n);
+    l.normal = glm::vec3(glm::normalize(normal));
+    l.radius2 = float(0.5 * glm::length(normal) / M_PI);  // area / pi
+    l.radiance = glm::vec3(a.radiance);
+    l.twoSided = a.twoSided ? 1 : 0;
+    l.centre = glm::vec3(centroid / double(n));
+    return l;
+}
+
+}  // namespace
+
+const std::vector<std::string>& placementNames() {
+    static const std::vector<std::string> names{"midpoint", "transmittance", "equiangular"};
+    return names;
+}
+
+const std::vector<std::string>& transmittanceNames() {
+    static const std::vector<std::string> names{"min-distance", "polygon"};
+    return names;
+}
+
+Settings settingsFrom(const ParamSet& params) {
+    Settings s;
+    const std::string& device = params.getEnum("device");
+    s.device = device == "gpu" ? Device::Gpu : device == "cpu" ? Device::Cpu : Device::Auto;
+    s.nodes = int(params.getInt("nodes"));
+    s.placement = indexOf(placementNames(), params.getEnum("placement"));
+    s.transmittance = indexOf(transmittanceNames(), params.getEnum("transmittance"));
+    s.supersampling = int(params.getInt("supersampling"));
+    return s;
+}
+
+double hgAsymmetry(const HomogeneousMedium& medium) {
+    if (medium.phase.kind == PhaseKind::HenyeyGreenstein) return medium.phase.g;
+    if (medium.phase.kind == PhaseKind::Isotropic) return 0.0;
+    throw InputError(InputLocation{"", 0, 0, "media[" + medium.name + "].phase"},
+                     std::string("the LTSD technique has fitted tables for Henyey-Greenstein (and isotropic, its g = "
+                                 "0) only; the medium '") +
+                         medium.name + "' has the phase function " + toString(medium.phase.kind));
+}
+
+PreparedScene prepareScene(const Scene& scene, const Settings& settings, const std::string& projectDir) {
+    PreparedScene p;
+    shader::LtsdFrame& f = p.frame;
+    f.camera = toCameraParams(scene.camera);
+    f.nodes = settings.nodes;
+    f.placement = settings.placement;
+    f.transmittance = settings.transmittance;
+    f.supersampling = settings.supersampling;
+
+    if (scene.media.size() > 1 || !scene.particleMedia.empty())
+        throw InputError(InputLocation{"", 0, 0, "media"},
+                         "the LTSD technique renders one homogeneous medium; this view has " +
+                             std::to_string(scene.media.size() + scene.particleMedia.size()) +
+                             " media (give the view a part with one)");
+    if (!scene.pointLights.empty() || !scene.directionalLights.empty())
+        throw InputError(InputLocation{"", 0, 0, "lights"},
+                         "the LTSD technique integrates over area lights' polygons; leave point and directional lights "
+                         "out of the view's part");
+    if (int(scene.areaLights.size()) > shader::kLtsdMaxLights)
+        throw InputError(InputLocation{"", 0, 0, "lights"},
+                         "the LTSD technique takes at most " + std::to_string(shader::kLtsdMaxLights) +
+                             " area lights per view, got " + std::to_string(scene.areaLights.size()));
+    for (const AreaLight& a : scene.areaLights) {
+        if (int(a.vertices.size()) > shader::kLtsdLightMaxVertices)
+            throw InputError(InputLocation{"", 0, 0, "lights[" + a.name + "].vertices"},
+                             "the LTSD technique takes area lights of at most " +
+                                 std::to_string(shader::kLtsdLightMaxVertices) + " vertices, got " +
+                                 std::to_string(a.vertices.size()));
+        p.lights.push_back(toLight(a));
+        p.anyTwoSided = p.anyTwoSided || a.twoSided;
+    }
+    f.lightCount = int(p.lights.size());
+    if (p.lights.empty()) p.lights.push_back(shader::LtsdLight{});
+
+    if (!scene.media.empty()) {
+        const HomogeneousMedium& m = scene.media.front();
+        const std::string field = "media[" + m.name + "]";
+        p.g = hgAsymmetry(m);
+        f.hasMedium = 1;
+        f.sigmaS = glm::vec3(m.sigma_s);
+        f.sigmaT = glm::vec3(m.sigma_t());
+        const float sigmaMin = std::min({f.sigmaT.x, f.sigmaT.y, f.sigmaT.z});
+        f.tailDistance = sigmaMin > 0.0f ? 9.2f / sigmaMin : 1e30f;
+        if (m.shape != MediumShape::Infinite) {
+            const std::vector<HalfSpace> halfSpaces = m.shape == MediumShape::Box ? boxHalfSpaces(m.box) : m.planes;
+            if (int(halfSpaces.size()) > shader::kLtsdMaxPlanes)
+                throw InputError(InputLocation{"", 0, 0, field + ".planes"},
+                                 "the LTSD technique takes convex media of at most " +
+                                     std::to_string(shader::kLtsdMaxPlanes) + " faces, got " +
+                                     std::to_string(halfSpaces.size()));
+            for (const HalfSpace& h : halfSpaces) {
+                const glm::dvec3 n = glm::normalize(h.normal);
+                p.planes.emplace_back(glm::vec3(n), float(h.offset / glm::length(h.normal)));
+            }
+        }
+        const std::string path = ltsdTablePath("hg").string();
+        const LtsdTable table = loadLtsdTable(path);
+        f.upper = table.upper(p.g);
+        f.lower = table.lower(p.g);
+        p.tablePath = path;
+    }
+    f.planeCount = int(p.planes.size());
+    if (p.planes.empty()) p.planes.emplace_back(0.0f);
+
+    p.surfaces = prepareGpuSurfaces(scene, projectDir);
+    for (const shader::MaterialParams& m : p.surfaces.materials)
+        if (m.kind != shader::kMaterialDiffuse && p.surfaces.triangleCount > 0) {
+            // supports(Material) refuses them; a scene that reaches here with one is a contract violation.
+            TY_CHECK(false, "LTSD: a GGX material reached the renderer");
+        }
+    return p;
+}
+
+SceneScope::SceneScope(const PreparedScene& scene) : previous_(gBound), bvh_(scene.surfaces.bvh) {
+    gBound = &scene;
+}
+
+SceneScope::~SceneScope() {
+    gBound = previous_;
+}
+
+}  // namespace tyndall::ltsd
+
+// The accessors of shaders/shared/ltsd_scene.h over the scene bound to this thread.
+namespace tyndall::shader {
+LtsdLight ltsdLight(int i) {
+    return ltsd::bound().lights[std::size_t(i)];
+}
+vec4 ltsdPlane(int i) {
+    return ltsd::bound().planes[std::size_t(i)];
+}
+SurfaceTriangle ltsdTriangle(int id) {
+    return ltsd::bound().surfaces.triangles[std::size_t(id)];
+}
+MaterialParams ltsdMaterial(int i) {
+    return ltsd::bound().surfaces.materials[std::size_t(i)];
+}
+}  // namespace tyndall::shader

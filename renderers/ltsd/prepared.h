@@ -1,0 +1,65 @@
+// The LTSD technique's scene, prepared once per render for both paths: the std430 arrays of
+// shaders/shared/ltsd_scene.h (frame with the phase function's fitted LTSDs, lights, medium planes, surfaces) and the
+// BVH.
+#pragma once
+
+#include "src/gpu_surfaces.h"
+
+#include "shared/ltsd_scene.h"
+#include "tyndall/params.h"
+#include "tyndall/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace tyndall::ltsd {
+
+enum class Device { Auto, Gpu, Cpu };
+
+struct Settings {
+    Device device = Device::Auto;
+    int nodes = 8;  // N of Eq. 15
+    int placement = shader::kLtsdPlacementEquiangular;
+    int transmittance = shader::kLtsdTransmittanceMinDistance;
+    int supersampling = 1;
+};
+
+Settings settingsFrom(const ParamSet& params);
+
+// The names of the enum parameters, indexed by their shader constants.
+const std::vector<std::string>& placementNames();
+const std::vector<std::string>& transmittanceNames();
+
+struct PreparedScene {
+    shader::LtsdFrame frame{};
+    std::vector<shader::LtsdLight> lights;  // never empty (a dummy when the scene has none)
+    std::vector<glm::vec4> planes;          // the medium's half-spaces (n, offset); never empty
+    GpuSurfaces surfaces;
+    bool anyTwoSided = false;
+    double g = 0.0;         // the medium's HG asymmetry (0 for isotropic)
+    std::string tablePath;  // the LTSD table the frame's entries come from ("" without a medium)
+};
+
+// The Henyey-Greenstein g that stands for a phase function the technique supports (isotropic: 0); throws InputError
+// for the others.
+double hgAsymmetry(const HomogeneousMedium& medium);
+
+// Throws InputError for scene content the technique cannot render or that is inconsistent: more than one medium, too
+// many lights, a table that is missing or corrupt.
+PreparedScene prepareScene(const Scene& scene, const Settings& settings, const std::string& projectDir);
+
+// Binds a prepared scene to the calling thread for the C++ definitions of the accessors of ltsd_scene.h (and its BVH
+// for bvh.h's), so that the shared renderer runs on the CPU. The scene must outlive the scope.
+class SceneScope {
+public:
+    explicit SceneScope(const PreparedScene& scene);
+    ~SceneScope();
+    SceneScope(const SceneScope&) = delete;
+    SceneScope& operator=(const SceneScope&) = delete;
+
+private:
+    const PreparedScene* previous_;
+    gpu::BvhScope bvh_;
+};
+
+}  // namespace tyndall::ltsd

@@ -1,0 +1,409 @@
+// The LTSD technique (KT, Shah, Narayanan 2025; ../shared/papers/000), piece by piece against quadrature (the
+// technique is biased by design: each approximation is measured on its own), then whole against the reference, the
+// GPU against the CPU, and what it refuses.
+#include "test/technique_gpu_test.h"
+
+#include "ltsd/ltsd.h"
+#include "ltsd/prepared.h"
+
+#include "tyndall/error.h"
+#include "tyndall/ltsd_table.h"
+#include "tyndall/metrics.h"
+#include "tyndall/project.h"
+#include "tyndall/render.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <random>
+
+namespace tyndall::ltsd::test {
+namespace {
+
+using shader::LtsdFrame;
+using shader::LtsdLight;
+
+const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/ltsd-room.json";
+
+const LtsdTable& hgTable() {
+    static const LtsdTable table = loadLtsdTable(ltsdTablePath("hg"));
+    return table;
+}
+
+// A 1 m x 0.6 m panel at height 2 facing down (-y), centred over the origin.
+LtsdLight panel() {
+    LtsdLight l{};
+    const glm::vec3 v[4] = {{-0.5f, 2.0f, -0.3f}, {0.5f, 2.0f, -0.3f}, {0.5f, 2.0f, 0.3f}, {-0.5f, 2.0f, 0.3f}};
+    for (int i = 0; i < 4; ++i) {
+        l.vertices[i] = glm::vec4(v[i], 0.0f);
+        l.centre += v[i] / 4.0f;
+    }
+    l.vertexCount = 4;
+    l.radius2 = float(0.6 / M_PI);
+    l.normal = glm::vec3(0.0f, -1.0f, 0.0f);
+    l.radiance = glm::vec3(1.0f);
+    return l;
+}
+
+LtsdFrame fog(float sigmaT, double g) {
+    LtsdFrame f{};
+    f.hasMedium = 1;
+    f.sigmaT = glm::vec3(sigmaT);
+    f.sigmaS = glm::vec3(sigmaT);
+    f.planeCount = 0;
+    f.lightCount = 1;
+    f.nodes = 8;
+    f.placement = shader::kLtsdPlacementEquiangular;
+    f.transmittance = shader::kLtsdTransmittanceMinDistance;
+    f.upper = hgTable().upper(g);
+    f.lower = hgTable().lower(g);
+    f.tailDistance = 1e30f;
+    return f;
+}
+
+// Midpoint quadrature over the panel (n x n cells) in double of sum f(q) dOmega, dOmega = cos_l / r^2 dA.
+template <typename F>
+double overPanel(const glm::dvec3& p, int n, F&& f) {
+    double sum = 0.0;
+    const double du = 1.0 / n, dv = 0.6 / n;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const glm::dvec3 q(-0.5 + (i + 0.5) * du, 2.0, -0.3 + (j + 0.5) * dv);
+            const glm::dvec3 v = q - p;
+            const double r2 = glm::dot(v, v), r = std::sqrt(r2);
+            sum += f(q, v / r, r) * std::abs(v.y) / (r2 * r) * du * dv;
+        }
+    return sum;
+}
+
+double hg(double g, double mu) {
+    const double d = 1.0 + g * g - 2.0 * g * mu;
+    return (1.0 - g * g) / (4.0 * M_PI * d * std::sqrt(d));
+}
+
+// Points below the panel from 2 cm to 3 m away, some beside it (grazing).
+std::vector<glm::dvec3> samplePoints(int count) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<glm::dvec3> points;
+    for (int i = 0; i < count; ++i) {
+        const double depth = 0.02 * std::pow(150.0, u(rng));  // log-uniform in [0.02, 3]
+        points.emplace_back(-1.5 + 3.0 * u(rng), 2.0 - depth, -1.0 + 2.0 * u(rng));
+    }
+    return points;
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Eq. 10: the aggregated transmittance
+
+// Against the exact mean of e^(-sigma_t r) over the light's solid angle. Eq. 10's d = min distance can only
+// overestimate it (every r >= d); the polygon rule (3 x 3 nodes per fan triangle, uniform in solid angle) is far
+// closer. Measured over 64 points 2 cm to 3 m from the panel: at sigma_t = 0.5 /m Eq. 10 is up to +26 % off (mean
+// 15 %), the polygon rule 1.0 % (mean 0.37 %); at 2 /m, Eq. 10 +130 % (mean 71 %), the polygon rule 3.6 % (mean 1.0 %).
+// The rule converges like 1 / grid (2 x 2: 5.7 %, 4 x 4: 2.7 %, 6 x 6: 1.8 % worst at 2 /m).
+TEST(LtsdTransmittance, AgainstTheExactAggregatedTransmittance) {
+    const LtsdLight light = panel();
+    for (float sigma : {0.5f, 2.0f}) {
+        LtsdFrame f = fog(sigma, 0.0);
+        double worstEq10 = 0.0, meanEq10 = 0.0, worstPolygon = 0.0, meanPolygon = 0.0;
+        const std::vector<glm::dvec3> points = samplePoints(64);
+        for (const glm::dvec3& p : points) {
+            const double omega = overPanel(p, 256, [](const glm::dvec3&, const glm::dvec3&, double) { return 1.0; });
+            const double exact =
+                overPanel(p, 256, [&](const glm::dvec3&, const glm::dvec3&, double r) { return std::exp(-sigma * r); }) /
+                omega;
+            f.transmittance = shader::kLtsdTransmittanceMinDistance;
+            const double eq10 = shader::ltsdMeanTransmittance(f, light, glm::vec3(p)).x;
+            f.transmittance = shader::kLtsdTransmittancePolygon;
+            const double polygon = shader::ltsdMeanTransmittance(f, light, glm::vec3(p)).x;
+            EXPECT_GE(eq10, exact * (1.0 - 1e-5)) << "Eq. 10 with the minimum distance cannot underestimate";
+            worstEq10 = std::max(worstEq10, std::abs(eq10 / exact - 1.0));
+            meanEq10 += std::abs(eq10 / exact - 1.0) / points.size();
+            worstPolygon = std::max(worstPolygon, std::abs(polygon / exact - 1.0));
+            meanPolygon += std::abs(polygon / exact - 1.0) / points.size();
+        }
+        RecordProperty("eq10Worst_sigma" + std::to_string(int(sigma * 10)), std::to_string(worstEq10));
+        RecordProperty("polygonWorst_sigma" + std::to_string(int(sigma * 10)), std::to_string(worstPolygon));
+        std::printf("sigma_t %.1f: Eq. 10 worst %.4f mean %.4f; polygon worst %.4f mean %.4f\n", sigma, worstEq10,
+                    meanEq10, worstPolygon, meanPolygon);
+        EXPECT_LT(worstPolygon, sigma < 1.0f ? 0.013 : 0.045);
+        EXPECT_LT(meanPolygon, sigma < 1.0f ? 0.005 : 0.013);
+        EXPECT_LT(meanPolygon, 0.1 * meanEq10);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Eq. 14 and 21: the in-scattered radiance
+
+// Without extinction L_s = L_i S, and S approximates the integral of HG over the light's polygon for the camera ray's
+// direction: mu = dot(d, omega_i), forward scattering towards the camera. A sign error in mu or a mirrored hemisphere
+// would be off by orders of magnitude at g = 0.9. The bound is the fit's (docs/tables.md): measured over 48 points and
+// 3 ray directions, the error relative to the larger of the value and 2 % of the phase function's peak integral.
+TEST(LtsdInScattering, MatchesHenyeyGreensteinOverThePolygon) {
+    const LtsdLight light = panel();
+    const glm::dvec3 dirs[3] = {glm::normalize(glm::dvec3(0.0, 0.0, -1.0)), glm::normalize(glm::dvec3(0.3, 0.8, -0.5)),
+                                glm::normalize(glm::dvec3(-0.2, -0.9, 0.4))};
+    for (double g : {-0.6, 0.0, 0.4, 0.9}) {
+        const LtsdFrame f = fog(0.0f, g);
+        double worst = 0.0, mean = 0.0;
+        int n = 0;
+        for (const glm::dvec3& p : samplePoints(48))
+            for (const glm::dvec3& d : dirs) {
+                glm::vec3 tx, ty;
+                shader::buildFrame(glm::vec3(-d), tx, ty);
+                const double s = shader::ltsdInScattered(f, light, glm::vec3(p), tx, ty, glm::vec3(-d)).x;
+                const double exact = overPanel(
+                    p, 192, [&](const glm::dvec3&, const glm::dvec3& wi, double) { return hg(g, glm::dot(d, wi)); });
+                const double omega =
+                    overPanel(p, 64, [](const glm::dvec3&, const glm::dvec3&, double) { return 1.0; });
+                const double scale = std::max(exact, 0.02 * omega * hg(std::abs(g), 1.0));
+                const double e = std::abs(s - exact) / scale;
+                worst = std::max(worst, e);
+                mean += e;
+                ++n;
+            }
+        mean /= n;
+        std::printf("g %+.1f: S against HG over the polygon: worst %.3f, mean %.3f\n", g, worst, mean);
+        RecordProperty("worst_g" + std::to_string(int(std::lround(g * 10))), std::to_string(worst));
+        EXPECT_LT(mean, 0.25) << "g = " << g;
+        EXPECT_LT(worst, 1.0) << "g = " << g;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Eq. 15: the air-light quadrature
+
+// The integral of Eq. 15's first term for one light with the same analytic L_s, to quadrature accuracy: 2^17 midpoint
+// nodes on each side of the light's plane (L_s is smooth on each), summed in double.
+double airLightByQuadrature(const LtsdFrame& f, const LtsdLight& light, const glm::vec3& origin, const glm::vec3& dir,
+                            double t1) {
+    glm::vec3 tx, ty;
+    shader::buildFrame(-dir, tx, ty);
+    const double s0 = shader::ltsdPlaneDistance(light, origin), ds = glm::dot(light.normal, dir);
+    const double tc = std::clamp(-s0 / ds, 0.0, t1);
+    double sum = 0.0;
+    for (const auto& [a, b] : {std::pair{0.0, tc}, std::pair{tc, t1}}) {
+        const int n = 1 << 17;
+        const double h = (b - a) / n;
+        for (int i = 0; i < n; ++i) {
+            const double t = a + (i + 0.5) * h;
+            sum += std::exp(-double(f.sigmaT.x) * t) *
+                   shader::ltsdInScattered(f, light, origin + float(t) * dir, tx, ty, -dir).x * h;
+        }
+    }
+    return sum;
+}
+
+// The N-node sum against the integral with the same analytic L_s. Rays through the fog pass 2 cm, 20 cm and 1 m
+// below the panel, from one side of it to the other. Measured relative errors in the printout; the bounds are what the
+// placements achieve, so that a regression fails.
+TEST(LtsdQuadrature, ConvergesToTheAirLightIntegral) {
+    const LtsdLight light = panel();
+    const int placements[3] = {shader::kLtsdPlacementMidpoint, shader::kLtsdPlacementTransmittance,
+                               shader::kLtsdPlacementEquiangular};
+    double worst[3][4] = {};  // placement x N in {4, 8, 64, 1024}
+    for (double below : {0.02, 0.2, 1.0}) {
+        const glm::vec3 origin(-3.0f, float(2.0 - below), 0.1f);
+        const glm::vec3 dir = glm::normalize(glm::vec3(1.0f, 0.0f, -0.05f));
+        LtsdFrame f = fog(0.3f, 0.5);
+        const double exact = airLightByQuadrature(f, light, origin, dir, 6.0);
+        ASSERT_GT(exact, 0.0);
+        for (int p = 0; p < 3; ++p) {
+            f.placement = placements[p];
+            int k = 0;
+            for (int n : {4, 8, 64, 1024}) {
+                f.nodes = n;
+                const double value = shader::ltsdAirLight(f, light, origin, dir, 0.0f, 6.0f).x;
+                const double e = std::abs(value / exact - 1.0);
+                worst[p][k] = std::max(worst[p][k], e);
+                std::printf("%.2f m below, placement %d, N %4d: relative error %.2e\n", below, p, n, e);
+                ++k;
+            }
+        }
+    }
+    for (int p = 0; p < 3; ++p) {
+        EXPECT_LT(worst[p][2], worst[p][0]) << "placement " << p << " converges";
+        EXPECT_LT(worst[p][3], 1e-3) << "placement " << p;
+    }
+    // N = 8 near the light is limited by the kinks of L_s where the ray passes the panel's edges 2 cm below it: 10 %
+    // (midpoint 40 %, transmittance 15 %); 20 cm and more below, 2.5 %.
+    EXPECT_LT(worst[2][1], 0.13);
+    EXPECT_LT(worst[2][2], 1e-3);
+    EXPECT_LT(worst[2][1], worst[0][1]) << "equiangular beats midpoint at N = 8";
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// The technique against the reference
+
+Project loadRoom(int width, int height, const std::vector<std::string>& overrides = {}) {
+    std::vector<std::string> all = {"camera.width=" + std::to_string(width), "camera.height=" + std::to_string(height)};
+    all.insert(all.end(), overrides.begin(), overrides.end());
+    return loadProject(kProject, all);
+}
+
+RenderResult renderView(const Project& project, const std::string& view, std::optional<int> spp = std::nullopt,
+                        std::uint64_t seed = 1) {
+    JobOptions options;
+    options.spp = spp;
+    options.seed = seed;
+    RenderJob job = makeViewJob(project, kProject, view, options);
+    return runJob(job);
+}
+
+// The room has no occluder between the fog and its lights, so the unshadowed technique and the reference render the
+// same light transport: the difference is the technique's bias (Eq. 10, the LTSD fit, N nodes) plus the reference's
+// noise. Surfaces in vacuum are exact (Lambert's polygon formula): the view without the medium matches the reference to
+// its noise. With fog, the bias per g and sigma_s is bounded at what the technique achieves (measured, relMSE and the
+// energy bias in %), so that a regression fails.
+struct BiasCase {
+    double g;
+    double sigmaS;
+    // Bounds on relMSE and on the energy bias in % (absolute), for Eq. 10's transmittance and for the polygon mean.
+    double maxRelMSE[2];
+    double maxEnergyBias[2];
+};
+
+TEST(LtsdTechnique, SurfacesInVacuumMatchTheReference) {
+    const std::string lights = R"(["ceiling panel", "wall panel"])";
+    const Project room = loadRoom(40, 30,
+                                  {"views[ltsd].media=[]", "views[ltsd].lights=" + lights, "views[reference].media=[]",
+                                   "views[reference].lights=" + lights, "views[ltsd].parameters.device=cpu",
+                                   "views[ltsd].parameters.supersampling=8"});
+    const RenderResult ltsd = renderView(room, "ltsd");
+    const RenderResult reference = renderView(room, "reference", 256, 3);
+    const Metrics m = computeMetrics(ltsd.image, reference.image);
+    ASSERT_TRUE(m.referenceNoiseRelMSE.has_value());
+    std::printf("vacuum: relMSE %.3g, reference noise %.3g, energy bias %.3f %%\n", m.relMSE,
+                *m.referenceNoiseRelMSE, m.energyBias);
+    EXPECT_LT(m.relMSE, 1.5 * *m.referenceNoiseRelMSE + 1e-5);
+    EXPECT_LT(std::abs(m.energyBias), 0.5);
+}
+
+// The bias per g and sigma_s at N = 64 (the quadrature's share is below 1e-3, LtsdQuadrature): what is left is the
+// LTSD fit (S, LtsdInScattering) and the aggregated transmittance. Eq. 10 overestimates the transmittance, the more so
+// the denser the medium: +23 % of the image's energy at sigma_s = 0.8; the polygon mean removes most of it. Measured
+// (relMSE / energy bias): see the printout and the issue note; each bound is about 1.3 x what it measured.
+TEST(LtsdTechnique, BiasAgainstTheReferenceIsBounded) {
+    // Measured at 32 x 24, N = 64, 3 x 3 rays per pixel, the reference at 256 spp (relMSE; energy bias):
+    //   g -0.6 sigma_s 0.2   Eq. 10 4.6e-4, +2.6 %    polygon 2.8e-4, -3.0 %
+    //   g +0.4 sigma_s 0.2   Eq. 10 2.4e-3, +6.0 %    polygon 4.0e-4, +0.5 %
+    //   g +0.9 sigma_s 0.2   Eq. 10 6.0e-3, +6.0 %    polygon 3.3e-3, +0.5 %   (the reference's noise: 1.4e-3)
+    //   g +0.4 sigma_s 0.8   Eq. 10 5.8e-3, +22.7 %   polygon 2.3e-4, +2.1 %
+    const BiasCase cases[] = {{-0.6, 0.2, {6e-4, 3.6e-4}, {3.5, 3.9}},
+                              {0.4, 0.2, {3.1e-3, 5.2e-4}, {7.8, 1.0}},
+                              {0.9, 0.2, {7.8e-3, 4.4e-3}, {7.8, 1.0}},
+                              {0.4, 0.8, {7.5e-3, 3.0e-4}, {29.5, 2.8}}};
+    for (const BiasCase& c : cases) {
+        char g[32], s[32];
+        std::snprintf(g, sizeof(g), "%g", c.g);
+        std::snprintf(s, sizeof(s), "%g", c.sigmaS);
+        const std::vector<std::string> medium = {std::string("media[fog].phase.g=") + g,
+                                                 std::string("media[fog].sigma_s=[") + s + "," + s + "," + s + "]"};
+        std::vector<std::string> overrides = medium;
+        const RenderResult reference = renderView(loadRoom(32, 24, overrides), "reference", 256, 5);
+        const char* modes[2] = {"min-distance", "polygon"};
+        for (int mode = 0; mode < 2; ++mode) {
+            std::vector<std::string> o = medium;
+            o.push_back("views[ltsd].parameters.device=cpu");
+            o.push_back("views[ltsd].parameters.nodes=64");
+            o.push_back("views[ltsd].parameters.supersampling=3");  // a box filter like the reference's at edges
+            o.push_back(std::string("views[ltsd].parameters.transmittance=") + modes[mode]);
+            const RenderResult ltsd = renderView(loadRoom(32, 24, o), "ltsd");
+            const Metrics m = computeMetrics(ltsd.image, reference.image);
+            std::printf("g %+.1f sigma_s %.1f %-12s: relMSE %.2e (reference noise %.1e), energy bias %+.2f %%\n", c.g,
+                        c.sigmaS, modes[mode], m.relMSE, m.referenceNoiseRelMSE.value_or(0.0), m.energyBias);
+            RecordProperty(std::string("relMSE_g") + g + "_s" + s + "_" + modes[mode], std::to_string(m.relMSE));
+            EXPECT_LT(m.relMSE, c.maxRelMSE[mode]) << "g " << c.g << ", sigma_s " << c.sigmaS << ", " << modes[mode];
+            EXPECT_LT(std::abs(m.energyBias), c.maxEnergyBias[mode])
+                << "g " << c.g << ", sigma_s " << c.sigmaS << ", " << modes[mode];
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// GPU against CPU
+
+using LtsdGpu = tyndall::test::TechniqueGpuTest;
+
+// The same shared code in float on both: the images agree to float roundoff (the GPU's transcendentals differ in the
+// last bits). The room's views cover the variants: equiangular and midpoint placement, both transmittances.
+TEST_F(LtsdGpu, MatchesTheCpuPath) {
+    for (const std::string view : {"ltsd", "ltsd paper", "ltsd eq. 10"}) {
+        const Project gpuRoom = loadRoom(32, 24, {"views[" + view + "].parameters.device=gpu"});
+        const Project cpuRoom = loadRoom(32, 24, {"views[" + view + "].parameters.device=cpu"});
+        const RenderResult g = renderView(gpuRoom, view);
+        const RenderResult c = renderView(cpuRoom, view);
+        ASSERT_NE(g.image.metadata.at("device"), "cpu");
+        const Metrics m = computeMetrics(g.image, c.image);
+        EXPECT_LT(m.relMSE, 1e-8) << view;
+        EXPECT_LT(std::abs(m.energyBias), 1e-2) << view;  // % (the polygon rule's acos, sin, cos differ most)
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// What it refuses
+
+TEST(LtsdTechnique, RefusesWhatItCannotRender) {
+    LtsdTechnique t;
+    PointLight point;
+    point.name = "bulb";
+    EXPECT_FALSE(t.supports(point).supported);
+    EXPECT_NE(t.supports(point).reason.find("bulb"), std::string::npos);
+    HomogeneousMedium rayleigh;
+    rayleigh.name = "air";
+    rayleigh.phase.kind = PhaseKind::Rayleigh;
+    EXPECT_FALSE(t.supports(rayleigh).supported);
+    EXPECT_NE(t.supports(rayleigh).reason.find("air"), std::string::npos);
+    Material brass;
+    brass.name = "brass";
+    brass.kind = Material::Kind::GGX;
+    EXPECT_FALSE(t.supports(brass).supported);
+    EXPECT_NE(t.supports(brass).reason.find("brass"), std::string::npos);
+    ParticleMedium smoke;
+    smoke.name = "smoke";
+    EXPECT_FALSE(t.supports(smoke).supported);
+
+    // Two media in one view.
+    Project room = loadRoom(8, 6);
+    RenderRequest request;
+    request.scene = room.scene;
+    request.scene.media.push_back(room.scene.media.front());
+    request.scene.media.back().name = "second";
+    request.params = t.defaultParams();
+    EXPECT_THROW(t.check(request), InputError);
+    EXPECT_THROW(t.render(request, {}), InputError);
+}
+
+// A missing or corrupt table is an InputError naming the file, never an image.
+TEST(LtsdTechnique, AMissingTableIsAClearError) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "tyndall-ltsd-no-tables";
+    std::filesystem::create_directories(dir);
+    ::setenv("TYNDALL_TABLES_DIR", dir.c_str(), 1);
+    LtsdTechnique t;
+    Project room = loadRoom(8, 6);
+    RenderRequest request;
+    request.scene = room.scene;
+    request.params = t.defaultParams();
+    try {
+        t.check(request);
+        ADD_FAILURE() << "no error without a table";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("hg.ltsd"), std::string::npos) << e.what();
+    }
+    // Corrupt: a truncated file.
+    {
+        std::FILE* file = std::fopen((dir / "hg.ltsd").c_str(), "wb");
+        ASSERT_NE(file, nullptr);
+        std::fputs("LTSD", file);
+        std::fclose(file);
+    }
+    EXPECT_THROW(t.render(request, {}), InputError);
+    ::unsetenv("TYNDALL_TABLES_DIR");
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tyndall::ltsd::test

@@ -1,0 +1,63 @@
+#version 460
+// The LTSD technique on the GPU: one invocation per pixel runs the shared renderer (shared/ltsd_scene.h).
+// renderers/ltsd/ compiles variants at run time by inserting defines after the #version line (see the top of
+// ltsd_scene.h): the light and plane counts, the placement and transmittance modes, and TY_LTSD_NO_MEDIUM,
+// TY_LTSD_NO_SURFACES, TY_LTSD_ONE_SIDED for what the scene lacks, so that lavapipe does not run code no lane takes;
+// TY_BVH_WORDS where the device has shaderFloat64. The build compiles this file as it is (every mode) so that CI
+// validates it with spirv-val.
+#extension GL_GOOGLE_include_directive : require
+
+#define TY_BVH_NODES_BINDING 0
+#define TY_BVH_TRIANGLES_BINDING 1
+#include "../include/bvh_buffers.glsl"
+#include "../shared/ltsd_scene.h"
+
+layout(local_size_x = 64) in;
+
+layout(std430, set = 0, binding = 2) readonly buffer Frame { LtsdFrame frame; };
+layout(std430, set = 0, binding = 3) readonly buffer Lights { LtsdLight lights[]; };
+layout(std430, set = 0, binding = 4) readonly buffer Planes { vec4 planes[]; };
+layout(std430, set = 0, binding = 5) readonly buffer SurfaceTriangles { SurfaceTriangle surfaceTriangles[]; };
+layout(std430, set = 0, binding = 6) readonly buffer Materials { MaterialParams materials[]; };
+layout(std430, set = 0, binding = 7) writeonly buffer Radiance { vec4 radiance[]; };
+
+layout(push_constant) uniform Push {
+    uint first;  // first pixel of this dispatch
+    uint count;  // pixels in the image
+    uint width;
+    uint pad;
+} push;
+
+// Lavapipe loads from a storage buffer with one scalar load only outside control flow; inside it, a loop over the
+// lanes. The frame, the lights and the planes are uniform: copied to private variables at the top of main, once.
+LtsdFrame sceneFrame;
+#if defined(TY_LTSD_LIGHTS) && TY_LTSD_LIGHTS > 0
+LtsdLight sceneLights[TY_LTSD_LIGHTS];
+LtsdLight ltsdLight(int i) { return sceneLights[i]; }
+#else
+LtsdLight ltsdLight(int i) { return lights[i]; }
+#endif
+#if defined(TY_LTSD_PLANES) && TY_LTSD_PLANES > 0
+vec4 scenePlanes[TY_LTSD_PLANES];
+vec4 ltsdPlane(int i) { return scenePlanes[i]; }
+#else
+vec4 ltsdPlane(int i) { return planes[i]; }
+#endif
+SurfaceTriangle ltsdTriangle(int id) { return surfaceTriangles[id]; }
+MaterialParams ltsdMaterial(int i) { return materials[i]; }
+
+void main() {
+    sceneFrame = frame;
+#if defined(TY_LTSD_LIGHTS) && TY_LTSD_LIGHTS > 0
+    for (int i = 0; i < TY_LTSD_LIGHTS; ++i)
+        sceneLights[i] = lights[i];
+#endif
+#if defined(TY_LTSD_PLANES) && TY_LTSD_PLANES > 0
+    for (int i = 0; i < TY_LTSD_PLANES; ++i)
+        scenePlanes[i] = planes[i];
+#endif
+    uint pixel = push.first + gl_GlobalInvocationID.x;
+    if (pixel >= push.count) return;
+    int px = int(pixel % push.width), py = int(pixel / push.width);
+    radiance[pixel] = vec4(ltsdPixel(sceneFrame, px, py), 1.0);
+}

@@ -1,0 +1,405 @@
+// The LTSD technique's scene as the GPU sees it (std430 layouts, declared once for GLSL and C++) and the per-pixel
+// renderer shared by its compute shader and its CPU path: unshadowed single scattering from polygonal area lights in
+// one homogeneous medium (KT, Shah, Narayanan 2025, ../shared/papers/000), the semi-analytic Eq. 15 with the analytic
+// in-scattered radiance of Eq. 14 and the analytic surface radiance of Eq. 12. Derivations and what is approximated:
+// docs/ltsd.md.
+//
+// The includer defines the accessors after including this header (as for bvh.h):
+//   LtsdLight ltsdLight(int i);  vec4 ltsdPlane(int i);  SurfaceTriangle ltsdTriangle(int id);
+//   MaterialParams ltsdMaterial(int i);
+// and bvhNode / bvhTriangle for bvh.h.
+//
+// Compile-time variants (the GPU renderer defines them; the CPU path uses the frame's values):
+//   TY_LTSD_LIGHTS n         exactly n lights        TY_LTSD_PLANES n     exactly n medium planes (0: infinite)
+//   TY_LTSD_NO_MEDIUM        surfaces in vacuum      TY_LTSD_NO_SURFACES  no triangles
+//   TY_LTSD_ONE_SIDED        no light is two-sided   TY_LTSD_PLACEMENT k  TY_LTSD_TRANSMITTANCE k
+#ifndef TY_SHARED_LTSD_SCENE_H
+#define TY_SHARED_LTSD_SCENE_H
+
+#include "bvh.h"
+#include "camera.h"
+#include "compat.h"
+#include "constants.h"
+#include "ltsd.h"
+#include "sampling.h"
+#include "surface.h"
+
+TY_BEGIN
+
+TY_CONST int kLtsdMaxLights = 8;
+TY_CONST int kLtsdMaxPlanes = 16;
+TY_CONST int kLtsdLightMaxVertices = 8;  // a horizon clip adds one: within kLtsdMaxVertices
+
+// Where the N nodes z_i* of Eq. 15 go on each light's part of the camera ray (docs/ltsd.md, "Quadrature").
+TY_CONST int kLtsdPlacementMidpoint = 0;       // N equal partitions, the node at each one's middle (the paper)
+TY_CONST int kLtsdPlacementTransmittance = 1;  // midpoints of equal parts of the camera transmittance
+TY_CONST int kLtsdPlacementEquiangular = 2;    // midpoints of equal angles seen from the light's centroid
+
+// The aggregated transmittance towards a light (docs/ltsd.md, "Aggregated transmittance").
+TY_CONST int kLtsdTransmittanceMinDistance = 0;  // Eq. 10: e^(-sigma_t d), d the distance to the nearest point
+TY_CONST int kLtsdTransmittancePolygon = 1;      // the solid-angle mean of e^(-sigma_t r) by quadrature
+TY_CONST int kLtsdTransmittanceGrid = 3;         // its nodes: a 3 x 3 grid per fan triangle, uniform in solid angle
+
+// A polygonal area light, 176 bytes.
+struct LtsdLight {
+    vec4 vertices[kLtsdLightMaxVertices];  // xyz in m; the first vertexCount are used
+    vec3 normal;                           // unit, right-hand rule of the vertex order: the emitting side
+    int vertexCount;
+    vec3 radiance;  // W/(m^2 sr), linear RGB
+    int twoSided;
+    vec3 centre;    // m, the vertices' mean: the centre of the equiangular placement
+    float radius2;  // m^2, area / pi: the squared radius of the disc of the light's area
+};
+
+// Everything else a frame needs, 224 bytes.
+struct LtsdFrame {
+    CameraParams camera;
+    vec3 sigmaT;  // 1/m
+    int lightCount;
+    vec3 sigmaS;     // 1/m
+    int planeCount;  // half-spaces bounding the medium (0: infinite)
+    int hasMedium;
+    int nodes;          // N of Eq. 15, per light and per side of its plane that the ray crosses
+    int placement;      // kLtsdPlacement*
+    int transmittance;  // kLtsdTransmittance*
+    int supersampling;  // S: S x S rays per pixel on a regular grid (a box filter)
+    float tailDistance;  // m: an unbounded camera segment ends here, where e^(-sigma_t t) < e^-9.2 ~ 1e-4
+    float pad0;
+    float pad1;
+    LtsdEntry upper;  // M_u and a_u of the medium's phase function (Eq. 24, fetched on the CPU: g is per medium)
+    LtsdEntry lower;  // T (M_l = diag(1, 1, -1) T) and a_l
+};
+
+// Supplied by the includer (see the top of the file).
+LtsdLight ltsdLight(int i);
+vec4 ltsdPlane(int i);
+SurfaceTriangle ltsdTriangle(int id);
+MaterialParams ltsdMaterial(int i);
+
+TY_FUNC int ltsdLightCount(TY_IN(LtsdFrame) f) {
+#ifdef TY_LTSD_LIGHTS
+    return TY_LTSD_LIGHTS;
+#else
+    return f.lightCount;
+#endif
+}
+
+TY_FUNC int ltsdPlaneCount(TY_IN(LtsdFrame) f) {
+#ifdef TY_LTSD_PLANES
+    return TY_LTSD_PLANES;
+#else
+    return f.planeCount;
+#endif
+}
+
+TY_FUNC int ltsdPlacement(TY_IN(LtsdFrame) f) {
+#ifdef TY_LTSD_PLACEMENT
+    return TY_LTSD_PLACEMENT;
+#else
+    return f.placement;
+#endif
+}
+
+TY_FUNC int ltsdTransmittanceMode(TY_IN(LtsdFrame) f) {
+#ifdef TY_LTSD_TRANSMITTANCE
+    return TY_LTSD_TRANSMITTANCE;
+#else
+    return f.transmittance;
+#endif
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// The medium
+
+// The part [t0, t1] of origin + t dir, t in [tMin, tMax], inside the medium's half-spaces (t0 >= t1: none).
+TY_FUNC vec2 ltsdMediumSegment(TY_IN(LtsdFrame) f, TY_IN(vec3) origin, TY_IN(vec3) dir, float tMin, float tMax) {
+    float t0 = tMin, t1 = tMax;
+    for (int i = 0; i < ltsdPlaneCount(f); ++i) {
+        vec4 p = ltsdPlane(i);
+        float denom = dot(vec3(p), dir);
+        float num = p.w - dot(vec3(p), origin);  // inside where num - t denom >= 0
+        if (abs(denom) < 1e-30f) {
+            if (num < 0.0f) t1 = -1.0f;
+            continue;
+        }
+        float t = num / denom;
+        if (denom > 0.0f)
+            t1 = min(t1, t);
+        else
+            t0 = max(t0, t);
+    }
+    return vec2(t0, t1);
+}
+
+// The length of the segment from `origin` to `origin + v` inside the medium (0 without one).
+TY_FUNC float ltsdChord(TY_IN(LtsdFrame) f, TY_IN(vec3) origin, TY_IN(vec3) v) {
+#ifdef TY_LTSD_NO_MEDIUM
+    return 0.0f;
+#else
+    if (f.hasMedium == 0) return 0.0f;
+    float l = length(v);
+    if (ltsdPlaneCount(f) == 0) return l;
+    if (!(l > 0.0f)) return 0.0f;
+    vec2 s = ltsdMediumSegment(f, origin, v / l, 0.0f, l);
+    return max(s.y - s.x, 0.0f);
+#endif
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Lights
+
+// The signed distance of p from the light's plane, positive on the emitting side.
+TY_FUNC float ltsdPlaneDistance(TY_IN(LtsdLight) light, TY_IN(vec3) p) {
+    return dot(light.normal, p - vec3(light.vertices[0]));
+}
+
+// True when the light emits towards p: p in front of it, or on either side of a two-sided light.
+TY_FUNC bool ltsdFacing(TY_IN(LtsdLight) light, TY_IN(vec3) p) {
+    float s = ltsdPlaneDistance(light, p);
+#ifdef TY_LTSD_ONE_SIDED
+    return s > 0.0f;
+#else
+    return light.twoSided != 0 ? s != 0.0f : s > 0.0f;
+#endif
+}
+
+// The light's polygon seen from p in the frame (x, y, z): its vertices relative to p in that basis.
+TY_FUNC SphericalPolygon ltsdLocalPolygon(TY_IN(LtsdLight) light, TY_IN(vec3) p, TY_IN(vec3) x, TY_IN(vec3) y,
+                                          TY_IN(vec3) z) {
+    SphericalPolygon poly;
+    for (int i = 0; i < kLtsdMaxVertices; ++i) poly.v[i] = vec3(0.0f);
+    poly.count = light.vertexCount;
+    for (int i = 0; i < kLtsdLightMaxVertices; ++i) {
+        if (i >= light.vertexCount) break;
+        vec3 v = vec3(light.vertices[i]) - p;
+        poly.v[i] = vec3(dot(v, x), dot(v, y), dot(v, z));
+    }
+    return poly;
+}
+
+// The point of the light's (convex, planar) polygon nearest to p.
+TY_FUNC vec3 ltsdNearestPoint(TY_IN(LtsdLight) light, TY_IN(vec3) p) {
+    vec3 q = p - ltsdPlaneDistance(light, p) * light.normal;  // p projected onto the plane
+    bool inside = true;
+    float best = kInfinity;
+    vec3 nearest = q;
+    for (int i = 0; i < kLtsdLightMaxVertices; ++i) {
+        if (i >= light.vertexCount) break;
+        vec3 a = vec3(light.vertices[i]);
+        vec3 b = vec3(light.vertices[i + 1 == light.vertexCount ? 0 : i + 1]);
+        vec3 e = b - a;
+        if (dot(cross(e, q - a), light.normal) < 0.0f) inside = false;
+        float t = clamp(dot(q - a, e) / max(dot(e, e), 1e-30f), 0.0f, 1.0f);
+        vec3 c = a + t * e;
+        float d2 = dot(q - c, q - c);
+        if (d2 < best) {
+            best = d2;
+            nearest = c;
+        }
+    }
+    return inside ? q : nearest;
+}
+
+// The aggregated transmittance from p towards the light divided by its solid angle: the mean of e^(-sigma_t r) over
+// the directions towards it, which multiplies S (Eq. 13-14) and E (Eq. 11-12). Eq. 10 writes T(p) = e^(-mu_t d) A(p)
+// and Eq. 11/13 multiply the integrals over A; dimensionally the split sum multiplies by the mean, T(p) / A(p), which
+// is what this returns (docs/ltsd.md). Only the path inside the medium attenuates.
+TY_FUNC vec3 ltsdMeanTransmittance(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(vec3) p) {
+#ifdef TY_LTSD_NO_MEDIUM
+    return vec3(1.0f);
+#else
+    if (f.hasMedium == 0) return vec3(1.0f);
+    if (ltsdTransmittanceMode(f) == kLtsdTransmittanceMinDistance) {
+        // Eq. 10 of 000 with d = min over the light of the distance (the paper's choice).
+        return exp(-f.sigmaT * ltsdChord(f, p, ltsdNearestPoint(light, p) - p));
+    }
+    // The mean over the light's solid angle: each fan triangle (v0, v_i, v_i+1) seen from p is a spherical triangle,
+    // mapped from [0, 1]^2 uniformly in solid angle (Arvo 1995) with kLtsdTransmittanceGrid^2 midpoint nodes, each
+    // weighted by its triangle's solid angle. The ray towards a node meets the light's plane at r = h / cos.
+    vec3 sum = vec3(0.0f);
+    float weights = 0.0f;
+    float h = abs(ltsdPlaneDistance(light, p));
+    vec3 a = normalize(vec3(light.vertices[0]) - p);
+    for (int i = 1; i + 1 < kLtsdLightMaxVertices; ++i) {
+        if (i + 1 >= light.vertexCount) break;
+        vec3 b = normalize(vec3(light.vertices[i]) - p);
+        vec3 c = normalize(vec3(light.vertices[i + 1]) - p);
+        // The triangle's angle alpha at a, its side c (from a to b), its solid angle.
+        vec3 nab = cross(a, b), nac = cross(a, c);
+        float lab = length(nab), lac = length(nac);
+        if (!(lab > 1e-12f) || !(lac > 1e-12f)) continue;
+        float cosAlpha = clamp(dot(nab, nac) / (lab * lac), -1.0f, 1.0f);
+        float sinAlpha = sqrt(max(0.0f, 1.0f - cosAlpha * cosAlpha));
+        float alpha = acos(cosAlpha);
+        float cosSideC = dot(a, b);
+        float omega = abs(2.0f * atan(dot(a, cross(b, c)), 1.0f + dot(a, b) + dot(b, c) + dot(c, a)));
+        if (!(omega > 0.0f)) continue;
+        vec3 cPerp = normalize(c - dot(c, a) * a);
+        for (int k = 0; k < kLtsdTransmittanceGrid * kLtsdTransmittanceGrid; ++k) {
+            int ku = k / kLtsdTransmittanceGrid, kv = k - ku * kLtsdTransmittanceGrid;
+            float u = (float(ku) + 0.5f) / float(kLtsdTransmittanceGrid);
+            float v = (float(kv) + 0.5f) / float(kLtsdTransmittanceGrid);
+            // Arvo: the sub-triangle (a, b, c') of area u omega, then a point on the arc from b to c'.
+            float subArea = u * omega;
+            float s = sin(subArea - alpha), t = cos(subArea - alpha);
+            float uu = t - cosAlpha, vv = s + sinAlpha * cosSideC;
+            float q = clamp(((vv * t - uu * s) * cosAlpha - vv) / ((vv * s + uu * t) * sinAlpha), -1.0f, 1.0f);
+            vec3 cHat = q * a + sqrt(max(0.0f, 1.0f - q * q)) * cPerp;
+            float z = 1.0f - v * (1.0f - dot(cHat, b));
+            vec3 w = z * b + sqrt(max(0.0f, 1.0f - z * z)) * normalize(cHat - dot(cHat, b) * b);
+            float r = h / max(abs(dot(w, light.normal)), 1e-6f);
+            sum += omega * exp(-f.sigmaT * ltsdChord(f, p, r * w));
+            weights += omega;
+        }
+    }
+    return weights > 0.0f ? sum / weights : vec3(1.0f);
+#endif
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Radiance
+
+// Eq. 14 without L_i's transmittance split: L_s(z) = L_i T_mean(z) S(z, A(z)) for one light, at the point z of a ray
+// with unit direction `dir` (omega_o = -dir, the +z axis of the LTSD frame).
+TY_FUNC vec3 ltsdInScattered(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(vec3) z, TY_IN(vec3) tx,
+                             TY_IN(vec3) ty, TY_IN(vec3) wo) {
+    if (!ltsdFacing(light, z)) return vec3(0.0f);
+    float s = ltsdS(ltsdLocalPolygon(light, z, tx, ty, wo), f.upper, f.lower);  // Eq. 21
+    return light.radiance * ltsdMeanTransmittance(f, light, z) * s;
+}
+
+// Node i of N on [a, b] for the placement: its position in x, its weight (the Delta z of Eq. 15) in y. `camera` holds
+// the grey extinction sigma and the ray's medium entry t_in for the transmittance placement; `centre` the light's
+// centroid's foot on the ray (t) and distance D from it for the equiangular placement.
+TY_FUNC vec2 ltsdNode(int placement, int i, int n, float a, float b, TY_IN(vec2) camera, TY_IN(vec2) centre) {
+    float u = (float(i) + 0.5f) / float(n);
+    if (placement == kLtsdPlacementEquiangular) {
+        // t = t_c + D tan(theta), theta uniform: dt = D / cos^2(theta) dtheta.
+        float thetaA = atan((a - centre.x) / centre.y), thetaB = atan((b - centre.x) / centre.y);
+        float theta = mix(thetaA, thetaB, u);
+        float c = cos(theta);
+        return vec2(centre.x + centre.y * tan(theta), centre.y * (thetaB - thetaA) / (float(n) * c * c));
+    }
+    if (placement == kLtsdPlacementTransmittance) {
+        // Equal parts of int_a^b e^(-sigma (t - t_in)) dt: t = a - ln(1 - u (1 - e^(-sigma L))) / sigma, weight
+        // (1 - e^(-sigma L)) / (sigma N) e^(sigma (t - a)) (the midpoint rule in the transformed variable).
+        float sigma = camera.x, span = b - a;
+        if (sigma * span > 1e-4f) {
+            float mass = 1.0f - exp(-sigma * span);
+            float t = a - log(1.0f - u * mass) / sigma;
+            return vec2(t, mass / (sigma * float(n)) * exp(sigma * (t - a)));
+        }
+    }
+    return vec2(mix(a, b, u), (b - a) / float(n));
+}
+
+// The air-light of one light over the camera segment [a, b] of the medium (Eq. 15's first term without mu_s):
+// sum_i T(y, z_i) L_s(z_i) Delta z_i, with T(y, z) = e^(-sigma_t (t - tIn)).
+TY_FUNC vec3 ltsdAirLightPart(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(vec3) origin, TY_IN(vec3) dir,
+                              float a, float b, float tIn) {
+    vec3 sum = vec3(0.0f);
+    if (!(b > a)) return sum;
+    vec3 tx, ty;
+    buildFrame(-dir, tx, ty);
+    float sigma = (f.sigmaT.x + f.sigmaT.y + f.sigmaT.z) / 3.0f;
+    float foot = dot(light.centre - origin, dir);
+    // The equiangular distance: the centre's distance from the ray, widened by the light's radius so that a ray that
+    // passes close to a large light spreads its nodes over the light's extent rather than around its centre alone.
+    vec3 off = light.centre - (origin + foot * dir);
+    float D = sqrt(dot(off, off) + light.radius2) + 1e-6f * (1.0f + abs(foot));
+    int placement = ltsdPlacement(f);
+    for (int i = 0; i < f.nodes; ++i) {
+        vec2 node = ltsdNode(placement, i, f.nodes, a, b, vec2(sigma, tIn), vec2(foot, D));
+        vec3 z = origin + node.x * dir;
+        sum += exp(-f.sigmaT * (node.x - tIn)) * ltsdInScattered(f, light, z, tx, ty, -dir) * node.y;
+    }
+    return sum;
+}
+
+// The air-light of one light over [t0, t1]: only the part of the ray on the emitting side of the light's plane can be
+// lit, so the segment is split where it crosses the plane and each piece the light faces is integrated apart (both,
+// for a two-sided light). No node then straddles the plane, where L_s jumps to zero: adjacent rays whose nodes fell on
+// either side of it would ring (docs/ltsd.md).
+TY_FUNC vec3 ltsdAirLight(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(vec3) origin, TY_IN(vec3) dir, float t0,
+                          float t1) {
+    float s0 = ltsdPlaneDistance(light, origin);
+    float ds = dot(light.normal, dir);
+    float tc = abs(ds) > 1e-30f ? clamp(-s0 / ds, t0, t1) : t1;
+    vec3 sum = vec3(0.0f);
+    for (int piece = 0; piece < 2; ++piece) {
+        float a = piece == 0 ? t0 : tc, b = piece == 0 ? tc : t1;
+        if (!(b > a)) continue;
+        float side = s0 + 0.5f * (a + b) * ds;
+#ifdef TY_LTSD_ONE_SIDED
+        bool lit = side > 0.0f;
+#else
+        bool lit = side > 0.0f || (light.twoSided != 0 && side < 0.0f);
+#endif
+        if (lit) sum += ltsdAirLightPart(f, light, origin, dir, a, b, t0);
+    }
+    return sum;
+}
+
+// The radiance along the camera ray through the image point (x, y) in pixel coordinates: Eq. 15, the quadrature of
+// the air-light plus the attenuated analytic surface radiance (Eq. 12) of the diffuse surface behind.
+TY_FUNC vec3 ltsdRay(TY_IN(LtsdFrame) f, float x, float y) {
+    vec3 origin, dir;
+    cameraRay(f.camera, x, y, origin, dir);
+    vec3 sum = vec3(0.0f);
+#ifdef TY_LTSD_NO_SURFACES
+    float tEnd = kInfinity;
+    bool hasHit = false;
+#else
+    BvhHit hit;
+    bool hasHit = bvhIntersect(origin, dir, 0.0f, kInfinity, hit);
+    float tEnd = hasHit ? hit.t : kInfinity;
+#endif
+#ifndef TY_LTSD_NO_MEDIUM
+    if (f.hasMedium != 0) {
+        vec2 seg = ltsdMediumSegment(f, origin, dir, 0.0f, tEnd);
+        seg.y = min(seg.y, seg.x + f.tailDistance);
+        if (seg.y > seg.x) {
+            vec3 air = vec3(0.0f);
+            for (int l = 0; l < kLtsdMaxLights; ++l) {
+                if (l >= ltsdLightCount(f)) break;
+                air += ltsdAirLight(f, ltsdLight(l), origin, dir, seg.x, seg.y);
+            }
+            sum += f.sigmaS * air;
+        }
+    }
+#endif
+#ifndef TY_LTSD_NO_SURFACES
+    if (hasHit) {
+        SurfaceTriangle st = ltsdTriangle(int(hit.id));
+        SurfaceFrame frame = surfaceFrame(st, hit.uv, dir);
+        MaterialParams material = ltsdMaterial(st.material);
+        vec3 xs = origin + hit.t * dir;
+        vec3 reflected = vec3(0.0f);
+        for (int l = 0; l < kLtsdMaxLights; ++l) {
+            if (l >= ltsdLightCount(f)) break;
+            LtsdLight light = ltsdLight(l);
+            if (!ltsdFacing(light, xs)) continue;
+            // Eq. 12: E of the polygon in the shading frame, clipped at its horizon; diffuse BRDF albedo / pi.
+            float e = ltsdClampedCosineIntegral(ltsdLocalPolygon(light, xs, frame.t, frame.b, frame.n));
+            reflected += light.radiance * ltsdMeanTransmittance(f, light, xs) * e;
+        }
+        sum += exp(-f.sigmaT * ltsdChord(f, origin, hit.t * dir)) * material.albedo * reflected;
+    }
+#endif
+    return sum;
+}
+
+// The pixel (px, py): the mean of its S x S rays on a regular grid, a box filter like the reference's.
+TY_FUNC vec3 ltsdPixel(TY_IN(LtsdFrame) f, int px, int py) {
+    int S = max(f.supersampling, 1);
+    vec3 sum = vec3(0.0f);
+    for (int k = 0; k < S * S; ++k) {
+        int sy = k / S, sx = k - sy * S;
+        sum += ltsdRay(f, float(px) + (float(sx) + 0.5f) / float(S), float(py) + (float(sy) + 0.5f) / float(S));
+    }
+    return sum / float(S * S);
+}
+
+TY_END
+
+#endif  // TY_SHARED_LTSD_SCENE_H
