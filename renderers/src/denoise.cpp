@@ -258,6 +258,7 @@ void atrousLevel(const Guides& g, const DenoiseSettings& s, int step, const Stat
     const bool useColour = s.sigmaColour > 0.0f;
     const float colourFactor = useColour ? -0.5f / (s.sigmaColour * s.sigmaColour) : 0.0f;
     const float guideFactor = useGuide ? -1.0f / (s.sigmaGuide * s.sigmaGuide) : 0.0f;
+    const float invC = 1.0f / float(C);
     tbb::parallel_for(tbb::blocked_range<int>(0, height, 4), [&](const tbb::blocked_range<int>& rows) {
         std::vector<float> sum(V), varSum(C);
         for (int y = rows.begin(); y < rows.end(); ++y)
@@ -266,7 +267,19 @@ void atrousLevel(const Guides& g, const DenoiseSettings& s, int step, const Stat
                 std::fill(sum.begin(), sum.end(), 0.0f);
                 std::fill(varSum.begin(), varSum.end(), 0.0f);
                 float weightSum = 0.0f;
+                // What the taps compare against, read once per pixel.
                 const float zp = useDepth ? g.depth[p] : 0.0f;
+                const bool zpFinite = std::isfinite(zp);
+                const float dzdx = useDepth ? g.depthDx[p] * s.sigmaDepth : 0.0f;
+                const float dzdy = useDepth ? g.depthDy[p] * s.sigmaDepth : 0.0f;
+                const float depthFloor = 1e-3f * std::fabs(zp) + 1e-30f;
+                const float* np = useNormal ? &g.normal[3 * p] : nullptr;
+                const bool zeroP = np && np[0] == 0.0f && np[1] == 0.0f && np[2] == 0.0f;
+                const float gp = useGuide ? g.guide[p] : 0.0f;
+                const bool colourHere = useColour && in.known[p];
+                const float* signalP = &in.signal[p * C];
+                const float* varP = &varW[p * C];
+                const float* valuesP = &in.values[p * V];
                 for (int ky = 0; ky < 5; ++ky) {
                     const int qy = y + (ky - 2) * step;
                     if (qy < 0 || qy >= height) continue;
@@ -276,51 +289,55 @@ void atrousLevel(const Guides& g, const DenoiseSettings& s, int step, const Stat
                         const std::size_t q = std::size_t(qy) * width + qx;
                         float w = kKernel[kx] * kKernel[ky];
                         if (q != p) {
+                            // The edge-stopping weights multiply: their exponents add, and one exp serves all.
+                            float exponent = 0.0f;
                             if (useDepth) {
                                 const float zq = g.depth[q];
-                                const bool fp = std::isfinite(zp), fq = std::isfinite(zq);
-                                if (fp != fq) continue;
-                                if (fp) {
-                                    const float along = std::fabs(g.depthDx[p] * float((kx - 2) * step) +
-                                                                  g.depthDy[p] * float((ky - 2) * step));
-                                    const float scale = s.sigmaDepth * along + 1e-3f * std::fabs(zp) + 1e-30f;
-                                    w *= std::exp(-std::fabs(zp - zq) / scale);
+                                if (zpFinite != std::isfinite(zq)) continue;
+                                if (zpFinite) {
+                                    const float along =
+                                        std::fabs(dzdx * float((kx - 2) * step) + dzdy * float((ky - 2) * step));
+                                    exponent -= std::fabs(zp - zq) / (along + depthFloor);
                                 }
                             }
+                            if (useGuide) {
+                                const float gq = g.guide[q];
+                                const float m = std::max(std::fabs(gp), std::fabs(gq));
+                                if (m > 0.0f) {
+                                    const float rel = std::fabs(gp - gq) / m;
+                                    exponent += guideFactor * rel * rel;
+                                }
+                            }
+                            if (colourHere && in.known[q]) {
+                                const float* signalQ = &in.signal[q * C];
+                                const float* varQ = &varW[q * C];
+                                float d2 = 0.0f;
+                                for (int c = 0; c < C; ++c) {
+                                    const float diff = signalP[c] - signalQ[c];
+                                    if (diff == 0.0f) continue;
+                                    const float v = varP[c] + varQ[c];
+                                    d2 += v > 0.0f ? diff * diff / v : std::numeric_limits<float>::infinity();
+                                }
+                                exponent += colourFactor * d2 * invC;
+                            }
                             if (useNormal) {
-                                const float* np = &g.normal[3 * p];
                                 const float* nq = &g.normal[3 * q];
-                                const bool zeroP = np[0] == 0.0f && np[1] == 0.0f && np[2] == 0.0f;
                                 const bool zeroQ = nq[0] == 0.0f && nq[1] == 0.0f && nq[2] == 0.0f;
                                 if (zeroP != zeroQ) continue;
                                 if (!zeroP) {
                                     const float d = np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2];
                                     if (!(d > 0.0f)) continue;
-                                    w *= std::pow(std::min(d, 1.0f), s.normalExponent);
+                                    // max(0, n_p . n_q)^e; equal normals (the common case) cost nothing.
+                                    if (d < 1.0f) exponent += s.normalExponent * std::log(d);
                                 }
                             }
-                            if (useGuide) {
-                                const float gp = g.guide[p], gq = g.guide[q];
-                                const float m = std::max(std::fabs(gp), std::fabs(gq));
-                                if (m > 0.0f) {
-                                    const float rel = std::fabs(gp - gq) / m;
-                                    w *= std::exp(guideFactor * rel * rel);
-                                }
-                            }
-                            if (useColour && in.known[p] && in.known[q]) {
-                                float d2 = 0.0f;
-                                for (int c = 0; c < C; ++c) {
-                                    const float diff = in.signal[p * C + c] - in.signal[q * C + c];
-                                    if (diff == 0.0f) continue;
-                                    const float v = varW[p * C + c] + varW[q * C + c];
-                                    d2 += v > 0.0f ? diff * diff / v : std::numeric_limits<float>::infinity();
-                                }
-                                w *= std::exp(colourFactor * d2 / float(C));
-                            }
-                            if (!(w > 0.0f)) continue;
+                            // Below e^-30 a tap cannot matter next to the centre's (3/8)^2: skip the exp.
+                            if (!(exponent > -30.0f)) continue;
+                            if (exponent < 0.0f) w *= std::exp(exponent);
                         }
                         // Sums of differences to the centre: a constant image stays exactly constant.
-                        for (int v = 0; v < V; ++v) sum[v] += w * (in.values[q * V + v] - in.values[p * V + v]);
+                        const float* valuesQ = &in.values[q * V];
+                        for (int v = 0; v < V; ++v) sum[v] += w * (valuesQ[v] - valuesP[v]);
                         for (int c = 0; c < C; ++c) varSum[c] += w * w * in.variance[q * C + c];
                         weightSum += w;
                     }
