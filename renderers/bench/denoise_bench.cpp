@@ -22,12 +22,9 @@ struct Inputs {
 // A plane split into two depths with a sinusoidal guide, Gaussian noise of sigma 0.1, fixed seed.
 const Inputs& inputs() {
     static const Inputs in = [] {
-        Inputs r{Image::rgb(kSize, kSize),
-                 Image(kSize, kSize, {"variance.R", "variance.G", "variance.B"}),
-                 Image(kSize, kSize, {"Z"}),
-                 Image(kSize, kSize, {"N.X", "N.Y", "N.Z"}),
-                 Image::rgb(kSize, kSize),
-                 Image::rgb(kSize, kSize),
+        Inputs r{Image::rgb(kSize, kSize),   Image(kSize, kSize, {"variance.R", "variance.G", "variance.B"}),
+                 Image(kSize, kSize, {"Z"}), Image(kSize, kSize, {"N.X", "N.Y", "N.Z"}),
+                 Image::rgb(kSize, kSize),   Image::rgb(kSize, kSize),
                  Image::rgb(kSize, kSize)};
         std::mt19937 rng(3);
         std::normal_distribution<float> noise(0.0f, 0.1f);
@@ -55,19 +52,20 @@ void BM_Denoise(benchmark::State& state) {
     const Inputs& in = inputs();
     const bool withVariance = state.range(0) != 0;
     for (auto _ : state) {
-        Image out = tyndall::denoise(in.noisy, withVariance ? &in.variance : nullptr,
-                                     {&in.depth, &in.normal, &in.guide}, {});
+        Image out =
+            tyndall::denoise(in.noisy, withVariance ? &in.variance : nullptr, {&in.depth, &in.normal, &in.guide}, {});
         benchmark::DoNotOptimize(out.data());
     }
-    state.SetLabel(withVariance ? "512x512 RGB, 5 levels, given variance" : "512x512 RGB, 5 levels, estimated variance");
+    state.SetLabel(withVariance ? "512x512 RGB, 5 levels, given variance"
+                                : "512x512 RGB, 5 levels, estimated variance");
 }
 BENCHMARK(BM_Denoise)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_DenoiseRatio(benchmark::State& state) {
     const Inputs& in = inputs();
     for (auto _ : state) {
-        Image out = tyndall::denoiseRatio(in.numerator, in.denominator, &in.variance,
-                                          {&in.depth, &in.normal, &in.guide}, {});
+        Image out =
+            tyndall::denoiseRatio(in.numerator, in.denominator, &in.variance, {&in.depth, &in.normal, &in.guide}, {});
         benchmark::DoNotOptimize(out.data());
     }
     state.SetLabel("512x512 RGB ratio, 5 levels, given variance");

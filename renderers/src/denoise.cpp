@@ -24,9 +24,8 @@ std::string sizeText(const Image& image) {
 
 void checkSize(const Image& image, const Image& reference, const std::string& what, const std::string& field) {
     if (image.width() != reference.width() || image.height() != reference.height())
-        throw InputError(InputLocation{.field = field},
-                         what + " is " + sizeText(image) + ", the noisy image " + sizeText(reference) +
-                             ": they must be the same size");
+        throw InputError(InputLocation{.field = field}, what + " is " + sizeText(image) + ", the noisy image " +
+                                                            sizeText(reference) + ": they must be the same size");
 }
 
 void checkFinite(const Image& image, int c, const std::string& field, bool allowInfinite = false) {
@@ -42,7 +41,8 @@ void checkFinite(const Image& image, int c, const std::string& field, bool allow
 
 std::string channelList(const Image& image) {
     std::string out;
-    for (const std::string& name : image.channels()) out += (out.empty() ? "" : ", ") + name;
+    for (const std::string& name : image.channels())
+        out += (out.empty() ? "" : ", ") + name;
     return out.empty() ? "none" : out;
 }
 
@@ -70,7 +70,8 @@ Guides readGuides(const DenoiseGuides& in, const Image& noisy) {
         checkFinite(d, c, "guides.depth." + d.channels()[c], true);
         g.depth.resize(n);
         for (int y = 0; y < g.height; ++y)
-            for (int x = 0; x < g.width; ++x) g.depth[std::size_t(y) * g.width + x] = d.at(x, y, c);
+            for (int x = 0; x < g.width; ++x)
+                g.depth[std::size_t(y) * g.width + x] = d.at(x, y, c);
         // The slope toward the side that continues the surface: the smaller one-sided difference, so that a pixel
         // beside a depth step does not take the step for its slope.
         auto slope = [&](int x, int y, int dx, int dy) {
@@ -102,14 +103,15 @@ Guides readGuides(const DenoiseGuides& in, const Image& noisy) {
         int c[3] = {m.channelIndex("N.X"), m.channelIndex("N.Y"), m.channelIndex("N.Z")};
         if ((c[0] < 0 || c[1] < 0 || c[2] < 0) && m.channelCount() == 3) c[0] = 0, c[1] = 1, c[2] = 2;
         if (c[0] < 0 || c[1] < 0 || c[2] < 0)
-            throw InputError(InputLocation{.field = "guides.normal"},
-                             "needs channels \"N.X\", \"N.Y\", \"N.Z\" (or exactly three channels); it has " +
-                                 channelList(m));
+            throw InputError(
+                InputLocation{.field = "guides.normal"},
+                "needs channels \"N.X\", \"N.Y\", \"N.Z\" (or exactly three channels); it has " + channelList(m));
         g.normal.resize(3 * n);
         for (int k = 0; k < 3; ++k) {
             checkFinite(m, c[k], "guides.normal." + m.channels()[c[k]]);
             for (int y = 0; y < g.height; ++y)
-                for (int x = 0; x < g.width; ++x) g.normal[3 * (std::size_t(y) * g.width + x) + k] = m.at(x, y, c[k]);
+                for (int x = 0; x < g.width; ++x)
+                    g.normal[3 * (std::size_t(y) * g.width + x) + k] = m.at(x, y, c[k]);
         }
     }
     if (in.guide) {
@@ -119,7 +121,8 @@ Guides readGuides(const DenoiseGuides& in, const Image& noisy) {
         if (m.channelIndex("R") >= 0 && m.channelIndex("G") >= 0 && m.channelIndex("B") >= 0)
             cs = {m.channelIndex("R"), m.channelIndex("G"), m.channelIndex("B")};
         else
-            for (int c = 0; c < m.channelCount(); ++c) cs.push_back(c);
+            for (int c = 0; c < m.channelCount(); ++c)
+                cs.push_back(c);
         if (cs.empty()) throw InputError(InputLocation{.field = "guides.guide"}, "has no channels");
         g.guide.assign(n, 0.0f);
         for (int c : cs) {
@@ -136,12 +139,9 @@ void checkSettings(const DenoiseSettings& s) {
     if (s.iterations < 0 || s.iterations > 12)
         throw InputError(InputLocation{.field = "denoise.iterations"},
                          "must be in [0, 12], got " + std::to_string(s.iterations));
-    const std::pair<const char*, float> values[] = {{"sigmaDepth", s.sigmaDepth},
-                                                    {"normalExponent", s.normalExponent},
-                                                    {"sigmaGuide", s.sigmaGuide},
-                                                    {"sigmaColour", s.sigmaColour},
-                                                    {"minDenominator", s.minDenominator},
-                                                    {"ratioFallback", s.ratioFallback}};
+    const std::pair<const char*, float> values[] = {
+        {"sigmaDepth", s.sigmaDepth},   {"normalExponent", s.normalExponent}, {"sigmaGuide", s.sigmaGuide},
+        {"sigmaColour", s.sigmaColour}, {"minDenominator", s.minDenominator}, {"ratioFallback", s.ratioFallback}};
     for (const auto& [name, v] : values)
         if (!std::isfinite(v))
             throw InputError(InputLocation{.field = std::string("denoise.") + name},
@@ -162,9 +162,9 @@ std::vector<float> readVariance(const Image& variance, const Image& of, const st
         int v = variance.channelIndex("variance." + name);
         if (v < 0) v = variance.channelIndex(name);
         if (v < 0)
-            throw InputError(InputLocation{.field = "variance"},
-                             "has no channel \"variance." + name + "\" or \"" + name + "\" for the " + ofName +
-                                 "'s channel \"" + name + "\"; it has " + channelList(variance));
+            throw InputError(InputLocation{.field = "variance"}, "has no channel \"variance." + name + "\" or \"" +
+                                                                     name + "\" for the " + ofName + "'s channel \"" +
+                                                                     name + "\"; it has " + channelList(variance));
         for (int y = 0; y < of.height(); ++y)
             for (int x = 0; x < of.width(); ++x) {
                 const float value = variance.at(x, y, v);
@@ -183,8 +183,8 @@ std::vector<float> readVariance(const Image& variance, const Image& of, const st
 // a standard deviation for Gaussian noise (1.4826 MAD) and halved since a difference carries two pixels' noise. The
 // median ignores the few pairs that straddle an edge; exact zeros count, so a noise-free region (a ratio that is
 // exactly 1 where everything is lit) is left alone. Pairs with an unknown end (a zero denominator) are skipped.
-std::vector<float> estimateVariance(const std::vector<float>& signal, const std::vector<unsigned char>& known, int width,
-                                    int height, int C) {
+std::vector<float> estimateVariance(const std::vector<float>& signal, const std::vector<unsigned char>& known,
+                                    int width, int height, int C) {
     std::vector<float> out(std::size_t(width) * height * C);
     tbb::parallel_for(tbb::blocked_range<int>(0, height, 4), [&](const tbb::blocked_range<int>& rows) {
         std::vector<float> diffs;
@@ -337,14 +337,18 @@ void atrousLevel(const Guides& g, const DenoiseSettings& s, int step, const Stat
                         }
                         // Sums of differences to the centre: a constant image stays exactly constant.
                         const float* valuesQ = &in.values[q * V];
-                        for (int v = 0; v < V; ++v) sum[v] += w * (valuesQ[v] - valuesP[v]);
-                        for (int c = 0; c < C; ++c) varSum[c] += w * w * in.variance[q * C + c];
+                        for (int v = 0; v < V; ++v)
+                            sum[v] += w * (valuesQ[v] - valuesP[v]);
+                        for (int c = 0; c < C; ++c)
+                            varSum[c] += w * w * in.variance[q * C + c];
                         weightSum += w;
                     }
                 }
                 // The centre tap always counts, so weightSum >= (3/8)^2.
-                for (int v = 0; v < V; ++v) out.values[p * V + v] = in.values[p * V + v] + sum[v] / weightSum;
-                for (int c = 0; c < C; ++c) out.variance[p * C + c] = varSum[c] / (weightSum * weightSum);
+                for (int v = 0; v < V; ++v)
+                    out.values[p * V + v] = in.values[p * V + v] + sum[v] / weightSum;
+                for (int c = 0; c < C; ++c)
+                    out.variance[p * C + c] = varSum[c] / (weightSum * weightSum);
             }
     });
 }
@@ -376,8 +380,10 @@ void runFilter(const Guides& g, const DenoiseSettings& s, State& st, bool isRati
         // The variance falls level by level, so the same difference counts as more standard deviations: coarse
         // levels only average what the fine levels left flat.
         atrousLevel(g, s, 1 << level, st, next);
-        if (isRatio) updateRatioSignal(next, s);
-        else next.signal = next.values;
+        if (isRatio)
+            updateRatioSignal(next, s);
+        else
+            next.signal = next.values;
         std::swap(st, next);
     }
 }
@@ -387,7 +393,8 @@ void runFilter(const Guides& g, const DenoiseSettings& s, State& st, bool isRati
 Image denoise(const Image& noisy, const Image* variance, const DenoiseGuides& guides, const DenoiseSettings& settings) {
     checkSettings(settings);
     if (noisy.channelCount() == 0) throw InputError(InputLocation{.field = "noisy"}, "has no channels");
-    for (int c = 0; c < noisy.channelCount(); ++c) checkFinite(noisy, c, "noisy." + noisy.channels()[c]);
+    for (int c = 0; c < noisy.channelCount(); ++c)
+        checkFinite(noisy, c, "noisy." + noisy.channels()[c]);
     const Guides g = readGuides(guides, noisy);
     const int C = noisy.channelCount();
     const std::size_t n = std::size_t(noisy.width()) * noisy.height();
@@ -405,15 +412,15 @@ Image denoise(const Image& noisy, const Image* variance, const DenoiseGuides& gu
     return out;
 }
 
-Image denoiseRatio(const Image& numerator, const Image& denominator, const Image* variance,
-                   const DenoiseGuides& guides, const DenoiseSettings& settings, bool denoised) {
+Image denoiseRatio(const Image& numerator, const Image& denominator, const Image* variance, const DenoiseGuides& guides,
+                   const DenoiseSettings& settings, bool denoised) {
     checkSettings(settings);
     if (numerator.channelCount() == 0) throw InputError(InputLocation{.field = "numerator"}, "has no channels");
     checkSize(denominator, numerator, "the denominator", "denominator");
     if (denominator.channels() != numerator.channels())
-        throw InputError(InputLocation{.field = "denominator"},
-                         "has channels " + channelList(denominator) + ", the numerator " + channelList(numerator) +
-                             ": they must be the same");
+        throw InputError(InputLocation{.field = "denominator"}, "has channels " + channelList(denominator) +
+                                                                    ", the numerator " + channelList(numerator) +
+                                                                    ": they must be the same");
     for (int c = 0; c < numerator.channelCount(); ++c) {
         checkFinite(numerator, c, "numerator." + numerator.channels()[c]);
         checkFinite(denominator, c, "denominator." + denominator.channels()[c]);

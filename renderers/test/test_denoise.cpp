@@ -21,22 +21,28 @@ constexpr int kSize = 64;
 Image fill(int channels, const std::function<float(int, int, int)>& f, std::vector<std::string> names = {}) {
     if (names.empty()) {
         const char* rgb[] = {"R", "G", "B"};
-        for (int c = 0; c < channels; ++c) names.push_back(rgb[c]);
+        for (int c = 0; c < channels; ++c)
+            names.push_back(rgb[c]);
     }
     Image image(kSize, kSize, names);
     for (int y = 0; y < kSize; ++y)
         for (int x = 0; x < kSize; ++x)
-            for (int c = 0; c < channels; ++c) image.at(x, y, c) = f(x, y, c);
+            for (int c = 0; c < channels; ++c)
+                image.at(x, y, c) = f(x, y, c);
     return image;
 }
 
 // A scene of two fronto-parallel planes split at x = 32: depth 2 on the left, 3 on the right; normals differ too.
-Image depthImage() { return fill(1, [](int x, int, int) { return x < 32 ? 2.0f : 3.0f; }, {"Z"}); }
+Image depthImage() {
+    return fill(1, [](int x, int, int) { return x < 32 ? 2.0f : 3.0f; }, {"Z"});
+}
 Image normalImage() {
-    return fill(3, [](int x, int, int c) {
-        if (x < 32) return c == 2 ? 1.0f : 0.0f;
-        return c == 0 ? 1.0f : 0.0f;
-    }, {"N.X", "N.Y", "N.Z"});
+    return fill(3,
+                [](int x, int, int c) {
+                    if (x < 32) return c == 2 ? 1.0f : 0.0f;
+                    return c == 0 ? 1.0f : 0.0f;
+                },
+                {"N.X", "N.Y", "N.Z"});
 }
 // Smooth inside each half, a step of 0.6 across the split.
 float truth(int x, int y, int c) {
@@ -48,7 +54,8 @@ Image addNoise(const Image& clean, float sigma, std::uint32_t seed) {
     std::mt19937 rng(seed);
     std::normal_distribution<float> normal(0.0f, sigma);
     Image noisy = clean;
-    for (std::size_t i = 0; i < noisy.size(); ++i) noisy.data()[i] += normal(rng);
+    for (std::size_t i = 0; i < noisy.size(); ++i)
+        noisy.data()[i] += normal(rng);
     return noisy;
 }
 
@@ -67,9 +74,11 @@ double mse(const Image& a, const Image& b, int x0 = 0, int x1 = kSize) {
 
 Image constantVariance(const Image& like, float variance) {
     std::vector<std::string> names;
-    for (const std::string& n : like.channels()) names.push_back("variance." + n);
+    for (const std::string& n : like.channels())
+        names.push_back("variance." + n);
     Image v(like.width(), like.height(), names);
-    for (std::size_t i = 0; i < v.size(); ++i) v.data()[i] = variance;
+    for (std::size_t i = 0; i < v.size(); ++i)
+        v.data()[i] = variance;
     return v;
 }
 
@@ -103,7 +112,8 @@ double edgeLeak(const DenoiseGuides& guides) {
     s.sigmaColour = 0.0f;
     const Image out = denoise(noisy, nullptr, guides, s);
     double leak = 0.0;
-    for (int y = 0; y < kSize; ++y) leak += std::fabs(out.at(31, y, 0) - 0.2f) + std::fabs(out.at(32, y, 0) - 0.8f);
+    for (int y = 0; y < kSize; ++y)
+        leak += std::fabs(out.at(31, y, 0) - 0.2f) + std::fabs(out.at(32, y, 0) - 0.8f);
     return leak / (2.0 * kSize);
 }
 
@@ -127,7 +137,8 @@ TEST(Denoise, PreservesStepEdgeByColourAlone) {
     const Image variance = constantVariance(noisy, 0.05f * 0.05f);
     const Image out = denoise(noisy, &variance, {}, {});
     double leak = 0.0;
-    for (int y = 0; y < kSize; ++y) leak += std::fabs(out.at(31, y, 0) - 0.2f) + std::fabs(out.at(32, y, 0) - 0.8f);
+    for (int y = 0; y < kSize; ++y)
+        leak += std::fabs(out.at(31, y, 0) - 0.2f) + std::fabs(out.at(32, y, 0) - 0.8f);
     leak /= 2.0 * kSize;
     // Measured: leak 2.1e-3, MSE down by a factor of 435 (flat halves). Bounds 5e-3 and 200.
     EXPECT_LT(leak, 5e-3);
@@ -140,7 +151,8 @@ TEST(Denoise, ConstantImageStaysExactlyConstant) {
     const Image guide = fill(3, [](int x, int y, int) { return 0.1f + 0.01f * float(x * y); });
     for (const Image* variance : {static_cast<const Image*>(nullptr), &constant}) {
         const Image out = denoise(constant, variance, {&depth, &normal, &guide}, {});
-        for (std::size_t i = 0; i < out.size(); ++i) ASSERT_EQ(out.data()[i], constant.data()[i]) << i;
+        for (std::size_t i = 0; i < out.size(); ++i)
+            ASSERT_EQ(out.data()[i], constant.data()[i]) << i;
     }
 }
 
@@ -151,7 +163,9 @@ float trueVisibility(int x, int y) {
     const float r = std::hypot(float(x) - 32.0f, float(y) - 36.0f);
     return std::clamp((r - 10.0f) / 8.0f, 0.0f, 1.0f);  // a shadow disc with a soft edge
 }
-float unshadowed(int x, int y) { return y < 4 ? 0.0f : 1.0f + 0.01f * float(x); }
+float unshadowed(int x, int y) {
+    return y < 4 ? 0.0f : 1.0f + 0.01f * float(x);
+}
 
 struct RatioInput {
     Image numerator, denominator, variance;
@@ -194,8 +208,8 @@ double ratioError(const Image& ratio) {
 TEST(DenoiseRatio, ConvergesToTheTrueRatioAndIsFiniteEverywhere) {
     // The top rows are background (no surface, so no light: the denominator is 0); the depth guide keeps the
     // filter from filling them from the lit rows below.
-    const Image depth = fill(1, [](int, int y, int) { return y < 4 ? std::numeric_limits<float>::infinity() : 2.0f; },
-                             {"Z"});
+    const Image depth =
+        fill(1, [](int, int y, int) { return y < 4 ? std::numeric_limits<float>::infinity() : 2.0f; }, {"Z"});
     double previous = 1e30;
     for (int samples : {4, 16, 64, 256, 1024}) {
         const RatioInput in = ratioInput(samples, 100u + std::uint32_t(samples));
@@ -246,7 +260,8 @@ TEST(DenoiseRatio, KeepsAHardShadowEdgeOnOneSurface) {
     auto error = [&](const Image& ratio) {
         double sum = 0.0;
         for (int y = 4; y < kSize; ++y)
-            for (int x = 0; x < kSize; ++x) sum += std::pow(ratio.at(x, y, 0) - hard(x, y), 2.0);
+            for (int x = 0; x < kSize; ++x)
+                sum += std::pow(ratio.at(x, y, 0) - hard(x, y), 2.0);
         return sum / double((kSize - 4) * kSize);
     };
     const Image raw = denoiseRatio(in.numerator, in.denominator, nullptr, {&depth, nullptr, nullptr}, {}, false);
@@ -270,7 +285,8 @@ TEST(DenoiseRatio, SharedWeightsKeepTheRatioOfEqualInputsAtOne) {
     const RatioInput in = ratioInput(2, 5);
     const Image out = denoiseRatio(in.denominator, in.denominator, nullptr, {}, {});
     for (int y = 4; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) EXPECT_FLOAT_EQ(out.at(x, y, 0), 1.0f);
+        for (int x = 0; x < kSize; ++x)
+            EXPECT_FLOAT_EQ(out.at(x, y, 0), 1.0f);
 }
 
 TEST(DenoiseRatio, FallbackIsConfigurable) {
@@ -279,7 +295,8 @@ TEST(DenoiseRatio, FallbackIsConfigurable) {
     s.ratioFallback = 1.0f;
     for (bool denoised : {false, true}) {
         const Image out = denoiseRatio(zero, zero, nullptr, {}, s, denoised);
-        for (std::size_t i = 0; i < out.size(); ++i) ASSERT_EQ(out.data()[i], 1.0f);
+        for (std::size_t i = 0; i < out.size(); ++i)
+            ASSERT_EQ(out.data()[i], 1.0f);
     }
 }
 

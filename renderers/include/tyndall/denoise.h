@@ -11,20 +11,20 @@ namespace tyndall {
 
 // Per-pixel guides of the same size as the noisy image; any may be null (its weight is then 1).
 struct DenoiseGuides {
-    const Image* depth = nullptr;   // channel "Z", or the only channel: distance along the view; non-finite = no surface
-    const Image* normal = nullptr;  // channels "N.X", "N.Y", "N.Z", or exactly three channels; unit, zero = no surface
-    const Image* guide = nullptr;   // noise-free image, e.g. the unshadowed render: "R", "G", "B" if present, else all
+    const Image* depth = nullptr;   // "Z" or the only channel: distance along the view; non-finite = no surface
+    const Image* normal = nullptr;  // "N.X", "N.Y", "N.Z" or exactly three channels; unit, zero = no surface
+    const Image* guide = nullptr;   // noise-free, e.g. the unshadowed render: "R", "G", "B" if present, else all
 };
 
-// Plain data; every sigma <= 0 turns its weight off.
+// Plain data (docs/denoise.md); every sigma <= 0 turns its weight off.
 struct DenoiseSettings {
-    int iterations = 5;            // a-trous levels, [0, 12]; level i spaces its taps 2^i pixels (5 levels: 125 px wide)
-    float sigmaDepth = 1.0f;       // depth weight exp(-|dz| / (sigmaDepth |grad z . offset| + 1e-3 z)): in local slopes
-    float normalExponent = 64.0f;  // normal weight max(0, n_p . n_q)^normalExponent
-    float sigmaGuide = 0.25f;      // guide weight exp(-(|g_p - g_q| / max(g_p, g_q) / sigmaGuide)^2): relative change
-    float sigmaColour = 3.0f;      // colour weight exp(-d^2 / (2 sigmaColour^2)), d = difference in standard deviations
-    float minDenominator = 0.0f;   // denoiseRatio: |denominator| <= this (after denoising) gives ratioFallback
-    float ratioFallback = 0.0f;    // denoiseRatio: the ratio where the denominator is ~0 (0: no light, as WVDS adds none)
+    int iterations = 5;            // a-trous levels, [0, 12]; level i spaces its 5x5 taps 2^i pixels apart
+    float sigmaDepth = 1.0f;       // depth: exp(-|dz| / (sigmaDepth |grad z . offset| + 1e-3 z)), in local slopes
+    float normalExponent = 64.0f;  // normal: max(0, n_p . n_q)^normalExponent
+    float sigmaGuide = 0.25f;      // guide: exp(-(|g_p - g_q| / max(g_p, g_q) / sigmaGuide)^2), a relative change
+    float sigmaColour = 3.0f;      // colour: exp(-d^2 / (2 sigmaColour^2)), d in noise standard deviations
+    float minDenominator = 0.0f;   // denoiseRatio: |denominator| <= this after denoising gives ratioFallback
+    float ratioFallback = 0.0f;    // denoiseRatio: the ratio there (0: no light; WVDS's raw ratio adds none)
 };
 
 // Denoises every channel of `noisy` with one set of weights per level. `variance` (optional, same size) holds the
@@ -39,7 +39,7 @@ Image denoise(const Image& noisy, const Image* variance, const DenoiseGuides& gu
 // from two halves of the samples), in channels "variance.<name>" or "<name>". Where |denominator| <= minDenominator
 // (or the ratio would not be finite) the result is settings.ratioFallback: never NaN or infinite. The result has the
 // numerator's channels.
-Image denoiseRatio(const Image& numerator, const Image& denominator, const Image* variance,
-                   const DenoiseGuides& guides, const DenoiseSettings& settings, bool denoised = true);
+Image denoiseRatio(const Image& numerator, const Image& denominator, const Image* variance, const DenoiseGuides& guides,
+                   const DenoiseSettings& settings, bool denoised = true);
 
 }  // namespace tyndall
