@@ -49,6 +49,7 @@ Settings settingsFrom(const ParamSet& params) {
     s.shadows = params.getBool("shadows");
     s.lightSelection = params.getEnum("lightSelection") == "unoccluded";
     s.pdfScale = params.getFloat("pdfScale");
+    s.denoise = params.getBool("denoise");
     return s;
 }
 

@@ -23,6 +23,7 @@ struct Settings {
     bool shadows = true;
     bool lightSelection = true;
     double pdfScale = 1.0;
+    bool denoise = false;  // ratio estimators: numerator and denominator denoised separately before the ratio
 };
 
 // The estimator names of the `estimator` parameter, indexed by shader::kWvds*.

@@ -3,6 +3,7 @@
 #include "wvds/gpu_renderer.h"
 #include "wvds/prepared.h"
 
+#include "tyndall/denoise.h"
 #include "tyndall/error.h"
 #include "tyndall/metrics.h"
 
@@ -15,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace tyndall {
 
@@ -66,6 +68,11 @@ std::vector<ParamInfo> WvdsTechnique::parameters() const {
                  "Scales the pdf of the Monte Carlo estimators (the analytic term of the ratio estimators): 1 is "
                  "unbiased; other values bias the image by 1 / pdfScale, to show that a convergence test detects it",
                  "", 0.5, 2.0, 1.0});
+    p.push_back({"denoise", ParamType::Bool,
+                 "Ratio estimators (reds, rees): denoise each light's numerator and denominator separately, with the "
+                 "same edge-aware weights guided by depth, before the ratio (docs/denoise.md); the variance channels "
+                 "stay those of the raw estimate. Other estimators ignore it",
+                 "", 0, 1, false});
     return p;
 }
 
@@ -147,7 +154,9 @@ void addSamplesCpu(const PreparedScene& scene, const Layout& layout, std::vector
 
 // The pixel's value from accumulators of one half (h = 0, 1) or both (h = 2). Ratio estimators divide the sums of all
 // samples, not per-sample ratios (Eq. 3 accumulated progressively).
-glm::vec3 pixelValue(const glm::vec4* a0, const glm::vec4* a1, int ratioLights, int h) {
+// With `ratios` (h = 2 only), each light's ratio is read from its denoised image instead of the pixel's sums.
+glm::vec3 pixelValue(const glm::vec4* a0, const glm::vec4* a1, int ratioLights, int h,
+                     const std::vector<Image>* ratios = nullptr, int x = 0, int y = 0) {
     auto sum = [&](int i) {
         return h == 0 ? glm::vec4(a0[i]) : h == 1 ? glm::vec4(a1[i]) : glm::vec4(a0[i]) + glm::vec4(a1[i]);
     };
@@ -157,6 +166,10 @@ glm::vec3 pixelValue(const glm::vec4* a0, const glm::vec4* a1, int ratioLights, 
     glm::vec3 value = glm::vec3(direct) / n;
     for (int l = 0; l < ratioLights; ++l) {
         const glm::vec3 analytic = glm::vec3(sum(1 + 3 * l)) / n;
+        if (ratios) {
+            for (int c = 0; c < 3; ++c) value[c] += analytic[c] * (*ratios)[std::size_t(l)].at(x, y, c);
+            continue;
+        }
         const glm::vec3 numerator = glm::vec3(sum(2 + 3 * l)), denominator = glm::vec3(sum(3 + 3 * l));
         for (int c = 0; c < 3; ++c)
             if (denominator[c] > 0.0f) value[c] += analytic[c] * numerator[c] / denominator[c];
@@ -166,10 +179,59 @@ glm::vec3 pixelValue(const glm::vec4* a0, const glm::vec4* a1, int ratioLights, 
 
 // R, G, B and the variance of each pixel's mean from its two halves, (A - B)^2 / 4, as the reference writes it. Rows in
 // parallel: this runs after every progressive pass, so it is on the way from an edit to its first image.
-Image resolve(const std::vector<glm::vec4>& acc, const Layout& layout, int threads, long& nonFinitePixels) {
+// Each light's ratio of separately denoised numerator and denominator sums (Eq. 22-23 of the LTSD paper (000), as
+// issue 18 asks of the ratio estimators), guided by `depth`; the ratio's variance from the two halves.
+std::vector<Image> denoisedRatios(const std::vector<glm::vec4>& acc, const Layout& layout, const Image& depth) {
+    std::vector<Image> ratios;
+    for (int l = 0; l < layout.ratioLights; ++l) {
+        Image num = Image::rgb(layout.width, layout.height), den = Image::rgb(layout.width, layout.height);
+        Image variance(layout.width, layout.height, {"variance.R", "variance.G", "variance.B"});
+        for (int y = 0; y < layout.height; ++y)
+            for (int x = 0; x < layout.width; ++x) {
+                const std::size_t pixel = std::size_t(y) * layout.width + x;
+                const glm::vec4* a0 = &acc[(pixel * 2) * layout.stride];
+                const glm::vec4* a1 = &acc[(pixel * 2 + 1) * layout.stride];
+                for (int c = 0; c < 3; ++c) {
+                    const float n0 = a0[2 + 3 * l][c], n1 = a1[2 + 3 * l][c];
+                    const float d0 = a0[3 + 3 * l][c], d1 = a1[3 + 3 * l][c];
+                    const bool ok = std::isfinite(n0 + n1 + d0 + d1);
+                    num.at(x, y, c) = ok ? n0 + n1 : 0.0f;
+                    den.at(x, y, c) = ok ? d0 + d1 : 0.0f;
+                    const float r0 = d0 > 0.0f ? n0 / d0 : 0.0f, r1 = d1 > 0.0f ? n1 / d1 : 0.0f;
+                    const float v = (r0 - r1) * (r0 - r1) * 0.25f;
+                    variance.at(x, y, c) = ok && std::isfinite(v) ? v : 0.0f;
+                }
+            }
+        ratios.push_back(denoiseRatio(num, den, &variance, {&depth, nullptr, nullptr}, DenoiseSettings{}));
+    }
+    return ratios;
+}
+
+// The depth of each pixel's centre ray: the first surface, infinite where there is none (the denoiser's depth guide).
+Image centreDepth(const PreparedScene& scene, int width, int height) {
+    Image depth(width, height, {"Z"});
+    wvds::SceneScope scope(scene);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            glm::vec3 origin, dir;
+            shader::cameraRay(scene.frame.camera, float(x) + 0.5f, float(y) + 0.5f, origin, dir);
+            shader::BvhHit hit;
+            depth.at(x, y, 0) = shader::bvhIntersect(origin, dir, 0.0f, shader::kInfinity, hit)
+                                    ? hit.t
+                                    : std::numeric_limits<float>::infinity();
+        }
+    return depth;
+}
+
+Image resolve(const std::vector<glm::vec4>& acc, const Layout& layout, int threads, long& nonFinitePixels,
+              const Image* denoiseDepth = nullptr) {
     Image image(layout.width, layout.height, {"R", "G", "B", "variance.R", "variance.G", "variance.B"});
     std::atomic<long> nonFinite{0};
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    std::vector<Image> ratios;
+    if (denoiseDepth && layout.ratioLights > 0)
+        arena.execute([&] { ratios = denoisedRatios(acc, layout, *denoiseDepth); });
+    const std::vector<Image>* ratioImages = ratios.empty() ? nullptr : &ratios;
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, layout.height, 8), [&](const tbb::blocked_range<int>& rows) {
             long bad = 0;
@@ -178,7 +240,7 @@ Image resolve(const std::vector<glm::vec4>& acc, const Layout& layout, int threa
                     const std::size_t pixel = std::size_t(y) * layout.width + x;
                     const glm::vec4* a0 = &acc[(pixel * 2) * layout.stride];
                     const glm::vec4* a1 = &acc[(pixel * 2 + 1) * layout.stride];
-                    glm::vec3 v = pixelValue(a0, a1, layout.ratioLights, 2);
+                    glm::vec3 v = pixelValue(a0, a1, layout.ratioLights, 2, ratioImages, x, y);
                     glm::vec3 variance(0.0f);
                     if (a0[0].w > 0.0f && a1[0].w > 0.0f) {
                         const glm::vec3 d =
@@ -231,6 +293,9 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
 
     bool onGpu = settings.device == wvds::Device::Gpu;
     if (settings.device == wvds::Device::Auto) onGpu = gpu::hardwareDeviceAvailable();
+    // The denoiser's depth guide, once per render.
+    const bool denoise = settings.denoise && layout.ratioLights > 0;
+    const Image depth = denoise ? centreDepth(scene, layout.width, layout.height) : Image();
     std::vector<glm::vec4> acc;  // the CPU path's accumulators
     if (onGpu) {
         if (!gpu_) gpu_ = std::make_unique<wvds::GpuRenderer>();
@@ -265,7 +330,8 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
         }
         done += passSize;
         secondsPerSample = std::chrono::duration<double>(Clock::now() - passStart).count() / passSize;
-        result.image = resolve(onGpu ? gpu_->readAccumulators() : acc, layout, request.threads, nonFinitePixels);
+        result.image = resolve(onGpu ? gpu_->readAccumulators() : acc, layout, request.threads, nonFinitePixels,
+                               denoise ? &depth : nullptr);
         if (callbacks.progress) callbacks.progress(progressFraction(done, spp, elapsed(), request.timeLimit));
         if (request.timeLimit > 0.0 && elapsed() >= request.timeLimit) break;
         if (callbacks.intermediate && done < spp) callbacks.intermediate(result.image, done);
@@ -277,6 +343,7 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
     auto& meta = result.image.metadata;
     meta["device"] = onGpu ? gpu_->context().device().name : "cpu";
     meta["wvds:estimator"] = wvds::estimatorNames()[std::size_t(settings.estimator)];
+    if (denoise) meta["wvds:denoise"] = "numerator and denominator denoised separately (variance channels: raw)";
     meta["nonFiniteSamples"] = std::to_string(nonFiniteSamples.load() + nonFinitePixels);
     if (onGpu) {
         meta["gpu:longestSliceMs"] = formatNumber(gpu_->longestSliceMs());
