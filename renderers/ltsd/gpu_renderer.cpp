@@ -16,10 +16,11 @@ namespace {
 constexpr std::uint32_t kGroupSize = 64;
 
 struct Push {
-    std::uint32_t first;  // first pixel of this dispatch
-    std::uint32_t count;  // pixels in the image
+    std::uint32_t first;    // first pixel of this dispatch
+    std::uint32_t count;    // pixels in the image
     std::uint32_t width;
-    std::uint32_t pad;
+    std::uint32_t samples;  // the ratio pass: camera samples per pixel
+    std::uint32_t seed;
 };
 
 std::string shaderPath() {
@@ -30,7 +31,7 @@ std::string shaderPath() {
 
 GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
 
-gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, double& compileSeconds) {
+gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, double& compileSeconds) {
     const shader::LtsdFrame& f = scene.frame;
     const bool words = context_->device().shaderFloat64;
     const bool medium = f.hasMedium != 0;
@@ -38,7 +39,7 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, double& comp
     const std::string key = std::to_string(f.lightCount) + "l-" + std::to_string(f.planeCount) + "p-" +
                             std::to_string(f.placement) + "-" + std::to_string(f.transmittance) +
                             (medium ? "" : "-nomedium") + (surfaces ? "" : "-nosurfaces") +
-                            (scene.anyTwoSided ? "-twosided" : "") + (words ? "-w" : "");
+                            (scene.anyTwoSided ? "-twosided" : "") + (words ? "-w" : "") + (ratio ? "-ratio" : "");
     auto it = kernels_.find(key);
     if (it != kernels_.end()) return *it->second;
     const auto start = std::chrono::steady_clock::now();
@@ -55,6 +56,7 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, double& comp
     if (!surfaces) defines += "#define TY_LTSD_NO_SURFACES\n";
     if (!scene.anyTwoSided) defines += "#define TY_LTSD_ONE_SIDED\n";
     if (words) defines += "#define TY_BVH_WORDS\n";
+    if (ratio) defines += "#define TY_LTSD_RATIO\n";
     source.insert(source.find('\n') + 1, defines + "#line 2\n");
     gpu::CompileResult compiled = gpu::compileGlslSource(source, shaderPath(), gpu::ShaderStage::Compute);
     if (!compiled.ok) throw gpu::ShaderError(*compiled.error);
@@ -65,8 +67,18 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, double& comp
 }
 
 GpuOutput GpuRenderer::render(const PreparedScene& scene, int width, int height, const RenderCallbacks& callbacks) {
+    return run(scene, false, width, height, 0, 0u, callbacks);
+}
+
+GpuOutput GpuRenderer::renderRatio(const PreparedScene& scene, int width, int height, int samples, std::uint32_t seed,
+                                   const RenderCallbacks& callbacks) {
+    return run(scene, true, width, height, samples, seed, callbacks);
+}
+
+GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, int height, int samples,
+                           std::uint32_t seed, const RenderCallbacks& callbacks) {
     GpuOutput out;
-    gpu::ComputeKernel& k = kernel(scene, out.compileSeconds);
+    gpu::ComputeKernel& k = kernel(scene, ratio, out.compileSeconds);
     gpu::Context& ctx = *context_;
     auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
     auto nodes = upload(scene.surfaces.bvh.nodes);
@@ -78,7 +90,8 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, int width, int height,
     auto surfaceTriangles = upload(scene.surfaces.triangles);
     auto materials = upload(scene.surfaces.materials);
     const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
-    gpu::Buffer radiance(ctx, pixels * sizeof(glm::vec4));
+    const std::uint64_t perPixel = ratio ? 4 : 2;
+    gpu::Buffer radiance(ctx, pixels * perPixel * sizeof(glm::vec4));
     const std::vector<const gpu::Buffer*> bindings{nodes.get(),  triangles.get(),        frame.get(),
                                                    lights.get(), planes.get(),           surfaceTriangles.get(),
                                                    materials.get(), &radiance};
@@ -88,17 +101,18 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, int width, int height,
             ctx, pixels,
             [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t n) {
                 if (callbacks.progress) callbacks.progress(double(begin) / double(pixels));
-                Push push{std::uint32_t(begin), std::uint32_t(pixels), std::uint32_t(width), 0u};
+                Push push{std::uint32_t(begin), std::uint32_t(pixels), std::uint32_t(width), std::uint32_t(samples),
+                          seed};
                 k.record(cmd, bindings, &push, std::uint32_t((n + kGroupSize - 1) / kGroupSize));
                 gpu::computeToComputeBarrier(cmd);
             },
-            callbacks.cancel, 10.0, 1024);
+            callbacks.cancel, 10.0, ratio ? 64 : 1024);
     } catch (...) {
         k.resetDescriptors();
         throw;
     }
     k.resetDescriptors();
-    out.radiance = radiance.download<glm::vec4>(pixels);
+    out.values = radiance.download<glm::vec4>(pixels * perPixel);
     out.deviceName = ctx.device().name;
     out.longestSliceMs = stats.longestMs;
     out.gpuMs = stats.totalMs;

@@ -16,7 +16,7 @@
 namespace tyndall::ltsd {
 
 struct GpuOutput {
-    std::vector<glm::vec4> radiance;  // per pixel, rgb
+    std::vector<glm::vec4> values;  // per pixel: A-bar and T L_c-bar (analytic pass), or the four ratio sums
     std::string deviceName;
     double longestSliceMs = 0.0;
     double gpuMs = 0.0;
@@ -27,11 +27,16 @@ class GpuRenderer {
 public:
     GpuRenderer();  // on gpu::sharedContext(); throws GpuError without Vulkan
 
-    // Throws Cancelled, GpuError, ShaderError.
+    // The analytic pass: per pixel A-bar then T L_c-bar. Throws Cancelled, GpuError, ShaderError.
     GpuOutput render(const PreparedScene& scene, int width, int height, const RenderCallbacks& callbacks);
+    // The ratio estimators' pass: per pixel the sums over `samples` camera samples of the four LtsdRatioTerms.
+    GpuOutput renderRatio(const PreparedScene& scene, int width, int height, int samples, std::uint32_t seed,
+                          const RenderCallbacks& callbacks);
 
 private:
-    gpu::ComputeKernel& kernel(const PreparedScene& scene, double& compileSeconds);
+    gpu::ComputeKernel& kernel(const PreparedScene& scene, bool ratio, double& compileSeconds);
+    GpuOutput run(const PreparedScene& scene, bool ratio, int width, int height, int samples, std::uint32_t seed,
+                  const RenderCallbacks& callbacks);
 
     std::shared_ptr<gpu::Context> context_;
     std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels_;  // by variant

@@ -3,6 +3,7 @@
 #include "ltsd/gpu_renderer.h"
 #include "ltsd/prepared.h"
 
+#include "tyndall/denoise.h"
 #include "tyndall/error.h"
 #include "tyndall/gpu/context.h"
 
@@ -14,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace tyndall {
 
@@ -58,6 +60,20 @@ std::vector<ParamInfo> LtsdTechnique::parameters() const {
     p.push_back({"supersampling", ParamType::Int,
                  "S x S rays per pixel on a regular grid (a box filter like the reference's)", "", 1, 16,
                  std::int64_t(1)});
+    p.push_back({"shadows",
+                 ParamType::Enum,
+                 "Shadows by the ratio estimators of Sec. 6 (Eq. 22-23): off (the unshadowed, noise-free image), ratio "
+                 "(the raw Monte Carlo ratio per pixel), ratio-denoised (numerator and denominator denoised apart, "
+                 "then divided)",
+                 "",
+                 0,
+                 0,
+                 std::string("ratio-denoised"),
+                 ltsd::shadowNames()});
+    p.push_back({"ratioSamples", ParamType::Int,
+                 "Camera samples per pixel of the ratio estimators (one shadow ray per light and term each); a render "
+                 "request's spp overrides it",
+                 "spp", 1, 65536, std::int64_t(16), {}, true});
     return p;
 }
 
@@ -107,9 +123,10 @@ void LtsdTechnique::check(const RenderRequest& request) const {
 
 namespace {
 
+// The analytic pass on the CPU: per pixel A-bar and T L_c-bar, rows in parallel.
 std::vector<glm::vec4> renderCpu(const ltsd::PreparedScene& scene, int width, int height, int threads,
                                  const RenderCallbacks& callbacks) {
-    std::vector<glm::vec4> out(std::size_t(width) * height);
+    std::vector<glm::vec4> out(std::size_t(width) * height * 2);
     std::atomic<int> rowsDone{0};
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     arena.execute([&] {
@@ -117,15 +134,86 @@ std::vector<glm::vec4> renderCpu(const ltsd::PreparedScene& scene, int width, in
             ltsd::SceneScope scope(scene);
             for (int y = rows.begin(); y < rows.end(); ++y) {
                 if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
-                for (int x = 0; x < width; ++x)
-                    out[std::size_t(y) * width + x] = glm::vec4(shader::ltsdPixel(scene.frame, x, y), 1.0f);
+                for (int x = 0; x < width; ++x) {
+                    glm::vec3 air, surface;
+                    shader::ltsdPixelTerms(scene.frame, x, y, air, surface);
+                    const std::size_t i = std::size_t(y) * width + x;
+                    out[2 * i] = glm::vec4(air, 0.0f);
+                    out[2 * i + 1] = glm::vec4(surface, 0.0f);
+                }
                 const int done = rowsDone.fetch_add(1) + 1;
-                if (callbacks.progress && (done % 16 == 0)) callbacks.progress(double(done) / height);
+                if (callbacks.progress && (done % 16 == 0)) callbacks.progress(0.5 * double(done) / height);
             }
         });
     });
     if (callbacks.cancel && callbacks.cancel->load()) throw Cancelled();
     return out;
+}
+
+// The ratio estimators' pass on the CPU: per pixel the sums of the four LtsdRatioTerms over `samples` camera samples.
+std::vector<glm::vec4> renderRatioCpu(const ltsd::PreparedScene& scene, int width, int height, int samples,
+                                      std::uint32_t seed, int threads, const RenderCallbacks& callbacks) {
+    std::vector<glm::vec4> out(std::size_t(width) * height * 4);
+    std::atomic<int> rowsDone{0};
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, height, 1), [&](const tbb::blocked_range<int>& rows) {
+            ltsd::SceneScope scope(scene);
+            for (int y = rows.begin(); y < rows.end(); ++y) {
+                if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
+                for (int x = 0; x < width; ++x) {
+                    glm::vec3 sums[4] = {};
+                    for (int k = 0; k < samples; ++k) {
+                        const shader::LtsdRatioTerms r = shader::ltsdRatioSample(scene.frame, x, y, std::uint32_t(k), seed);
+                        sums[0] += r.airNumerator;
+                        sums[1] += r.airDenominator;
+                        sums[2] += r.surfaceNumerator;
+                        sums[3] += r.surfaceDenominator;
+                    }
+                    const std::size_t i = std::size_t(y) * width + x;
+                    for (int t = 0; t < 4; ++t)
+                        out[4 * i + t] = glm::vec4(sums[t], 0.0f);
+                }
+                const int done = rowsDone.fetch_add(1) + 1;
+                if (callbacks.progress && (done % 16 == 0)) callbacks.progress(0.5 + 0.5 * double(done) / height);
+            }
+        });
+    });
+    if (callbacks.cancel && callbacks.cancel->load()) throw Cancelled();
+    return out;
+}
+
+// The denoiser's guides from each pixel's centre ray: the distance to the first surface (infinite where none) and its
+// normal (zero where none).
+void surfaceGuides(const ltsd::PreparedScene& scene, int width, int height, Image& depth, Image& normal) {
+    depth = Image(width, height, {"Z"});
+    normal = Image(width, height, {"N.X", "N.Y", "N.Z"});
+    ltsd::SceneScope scope(scene);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            glm::vec3 origin, dir;
+            shader::cameraRay(scene.frame.camera, float(x) + 0.5f, float(y) + 0.5f, origin, dir);
+            shader::BvhHit hit;
+            const bool hasHit = scene.surfaces.triangleCount > 0 &&
+                                shader::bvhIntersect(origin, dir, 0.0f, shader::kInfinity, hit);
+            depth.at(x, y, 0) = hasHit ? hit.t : std::numeric_limits<float>::infinity();
+            if (hasHit) {
+                const shader::SurfaceFrame f =
+                    shader::surfaceFrame(scene.surfaces.triangles[hit.id], hit.uv, dir);
+                for (int c = 0; c < 3; ++c)
+                    normal.at(x, y, c) = f.n[c];
+            }
+        }
+}
+
+// A channel set of one term of the ratio sums (t = 0..3) as an image.
+Image ratioTerm(const std::vector<glm::vec4>& sums, int width, int height, int term) {
+    Image image(width, height, {"R", "G", "B"});
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c)
+                image.at(x, y, c) = sums[4 * (std::size_t(y) * width + x) + term][c];
+    return image;
 }
 
 std::string formatDouble(double x) {
@@ -146,31 +234,77 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
 
     bool onGpu = settings.device == ltsd::Device::Gpu;
     if (settings.device == ltsd::Device::Auto) onGpu = gpu::hardwareDeviceAvailable();
-    std::vector<glm::vec4> radiance;
+    const bool shadows = settings.shadows != ltsd::kShadowsOff && scene.surfaces.triangleCount > 0;
+    const int ratioSamples =
+        request.spp > 0 && request.spp < RenderRequest::kUnboundedSpp ? request.spp : settings.ratioSamples;
+    const std::uint32_t seed = std::uint32_t(request.seed ^ (request.seed >> 32));
+    std::vector<glm::vec4> terms, sums;
     std::string deviceName = "cpu";
-    ltsd::GpuOutput g;
+    double longestSliceMs = 0.0, gpuMs = 0.0, compileSeconds = 0.0;
     if (onGpu) {
         if (!gpu_) gpu_ = std::make_unique<ltsd::GpuRenderer>();
-        g = gpu_->render(scene, width, height, callbacks);
-        radiance = std::move(g.radiance);
+        ltsd::GpuOutput g = gpu_->render(scene, width, height, callbacks);
+        terms = std::move(g.values);
         deviceName = g.deviceName;
+        longestSliceMs = g.longestSliceMs;
+        gpuMs = g.gpuMs;
+        compileSeconds = g.compileSeconds;
+        if (shadows) {
+            ltsd::GpuOutput r = gpu_->renderRatio(scene, width, height, ratioSamples, seed, callbacks);
+            sums = std::move(r.values);
+            longestSliceMs = std::max(longestSliceMs, r.longestSliceMs);
+            gpuMs += r.gpuMs;
+            compileSeconds += r.compileSeconds;
+        }
     } else {
-        radiance = renderCpu(scene, width, height, request.threads, callbacks);
+        terms = renderCpu(scene, width, height, request.threads, callbacks);
+        if (shadows) sums = renderRatioCpu(scene, width, height, ratioSamples, seed, request.threads, callbacks);
+    }
+
+    // Eq. 23: L = A-bar <R_A> + T L_c-bar <R_C>, each ratio from its numerator and denominator, denoised apart or raw.
+    // Where a denominator is zero (no unshadowed sample reached the light) the ratio is 1: nothing says it is shadowed,
+    // and the analytic term is then small itself.
+    Image ratioAir, ratioSurface;
+    if (shadows) {
+        DenoiseGuides guides;
+        Image depth, normal, unshadowed(width, height, {"R", "G", "B"});
+        surfaceGuides(scene, width, height, depth, normal);
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const std::size_t i = std::size_t(y) * width + x;
+                for (int c = 0; c < 3; ++c)
+                    unshadowed.at(x, y, c) = terms[2 * i][c] + terms[2 * i + 1][c];
+            }
+        guides.depth = &depth;
+        guides.normal = &normal;
+        guides.guide = &unshadowed;
+        DenoiseSettings denoiseSettings;
+        denoiseSettings.ratioFallback = 1.0f;
+        const bool denoised = settings.shadows == ltsd::kShadowsRatioDenoised;
+        ratioAir = denoiseRatio(ratioTerm(sums, width, height, 0), ratioTerm(sums, width, height, 1), nullptr, guides,
+                                denoiseSettings, denoised);
+        ratioSurface = denoiseRatio(ratioTerm(sums, width, height, 2), ratioTerm(sums, width, height, 3), nullptr,
+                                    guides, denoiseSettings, denoised);
     }
 
     RenderResult result;
-    result.image = Image(width, height, {"R", "G", "B"});
+    result.image = Image(width, height, {"R", "G", "B", "unshadowed.R", "unshadowed.G", "unshadowed.B"});
     std::size_t nonFinite = 0;
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            const glm::vec4 v = radiance[std::size_t(y) * width + x];
-            const bool finite = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-            if (!finite) ++nonFinite;
-            for (int c = 0; c < 3; ++c)
-                result.image.at(x, y, c) = finite ? v[c] : 0.0f;
+            const std::size_t i = std::size_t(y) * width + x;
+            for (int c = 0; c < 3; ++c) {
+                const float air = terms[2 * i][c], surface = terms[2 * i + 1][c];
+                float value = air + surface;
+                if (shadows) value = air * ratioAir.at(x, y, c) + surface * ratioSurface.at(x, y, c);
+                const bool finite = std::isfinite(value) && std::isfinite(air + surface);
+                if (!finite) ++nonFinite;
+                result.image.at(x, y, c) = finite ? value : 0.0f;
+                result.image.at(x, y, 3 + c) = finite ? air + surface : 0.0f;
+            }
         }
     if (callbacks.progress) callbacks.progress(1.0);
-    result.spp = 1;
+    result.spp = shadows ? ratioSamples : 1;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     stampMetadata(result, request);
     auto& meta = result.image.metadata;
@@ -180,10 +314,11 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
         meta["ltsd:table"] = scene.tablePath;
         meta["ltsd:g"] = formatDouble(scene.g);
     }
+    meta["ltsd:shadows"] = shadows ? ltsd::shadowNames()[std::size_t(settings.shadows)] : "off";
     if (onGpu) {
-        meta["gpu:longestSliceMs"] = formatDouble(g.longestSliceMs);
-        meta["gpu:totalMs"] = formatDouble(g.gpuMs);
-        meta["gpu:compileSeconds"] = formatDouble(g.compileSeconds);
+        meta["gpu:longestSliceMs"] = formatDouble(longestSliceMs);
+        meta["gpu:totalMs"] = formatDouble(gpuMs);
+        meta["gpu:compileSeconds"] = formatDouble(compileSeconds);
     }
     return result;
 }

@@ -57,6 +57,11 @@ const std::vector<std::string>& transmittanceNames() {
     return names;
 }
 
+const std::vector<std::string>& shadowNames() {
+    static const std::vector<std::string> names{"off", "ratio", "ratio-denoised"};
+    return names;
+}
+
 Settings settingsFrom(const ParamSet& params) {
     Settings s;
     const std::string& device = params.getEnum("device");
@@ -65,6 +70,8 @@ Settings settingsFrom(const ParamSet& params) {
     s.placement = indexOf(placementNames(), params.getEnum("placement"));
     s.transmittance = indexOf(transmittanceNames(), params.getEnum("transmittance"));
     s.supersampling = int(params.getInt("supersampling"));
+    s.shadows = indexOf(shadowNames(), params.getEnum("shadows"));
+    s.ratioSamples = int(params.getInt("ratioSamples"));
     return s;
 }
 
@@ -115,6 +122,7 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
         const HomogeneousMedium& m = scene.media.front();
         const std::string field = "media[" + m.name + "]";
         p.g = hgAsymmetry(m);
+        f.g = float(p.g);
         f.hasMedium = 1;
         f.sigmaS = glm::vec3(m.sigma_s);
         f.sigmaT = glm::vec3(m.sigma_t());
@@ -142,6 +150,7 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     if (p.planes.empty()) p.planes.emplace_back(0.0f);
 
     p.surfaces = prepareGpuSurfaces(scene, projectDir);
+    f.rayOffset = p.surfaces.rayOffset;
     for (const shader::MaterialParams& m : p.surfaces.materials)
         if (m.kind != shader::kMaterialDiffuse && p.surfaces.triangleCount > 0) {
             // supports(Material) refuses them; a scene that reaches here with one is a contract violation.

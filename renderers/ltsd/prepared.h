@@ -22,13 +22,20 @@ struct Settings {
     int placement = shader::kLtsdPlacementEquiangular;
     int transmittance = shader::kLtsdTransmittanceMinDistance;
     int supersampling = 1;
+    int shadows = 2;         // 0 off, 1 the raw ratio estimators, 2 numerator and denominator denoised (kShadows*)
+    int ratioSamples = 16;  // camera samples per pixel of the ratio estimators
 };
+
+inline constexpr int kShadowsOff = 0;
+inline constexpr int kShadowsRatio = 1;
+inline constexpr int kShadowsRatioDenoised = 2;
 
 Settings settingsFrom(const ParamSet& params);
 
 // The names of the enum parameters, indexed by their shader constants.
 const std::vector<std::string>& placementNames();
 const std::vector<std::string>& transmittanceNames();
+const std::vector<std::string>& shadowNames();
 
 struct PreparedScene {
     shader::LtsdFrame frame{};

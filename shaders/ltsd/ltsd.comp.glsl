@@ -3,8 +3,9 @@
 // renderers/ltsd/ compiles variants at run time by inserting defines after the #version line (see the top of
 // ltsd_scene.h): the light and plane counts, the placement and transmittance modes, and TY_LTSD_NO_MEDIUM,
 // TY_LTSD_NO_SURFACES, TY_LTSD_ONE_SIDED for what the scene lacks, so that lavapipe does not run code no lane takes;
-// TY_BVH_WORDS where the device has shaderFloat64. The build compiles this file as it is (every mode) so that CI
-// validates it with spirv-val.
+// TY_BVH_WORDS where the device has shaderFloat64. With TY_LTSD_RATIO the kernel is the ratio estimators' pass
+// instead: each invocation sums push.samples camera samples of its pixel. The build compiles this file as it is (every
+// mode, the analytic pass) so that CI validates it with spirv-val.
 #extension GL_GOOGLE_include_directive : require
 
 #define TY_BVH_NODES_BINDING 0
@@ -19,13 +20,16 @@ layout(std430, set = 0, binding = 3) readonly buffer Lights { LtsdLight lights[]
 layout(std430, set = 0, binding = 4) readonly buffer Planes { vec4 planes[]; };
 layout(std430, set = 0, binding = 5) readonly buffer SurfaceTriangles { SurfaceTriangle surfaceTriangles[]; };
 layout(std430, set = 0, binding = 6) readonly buffer Materials { MaterialParams materials[]; };
-layout(std430, set = 0, binding = 7) writeonly buffer Radiance { vec4 radiance[]; };
+// Per pixel: the analytic pass writes A-bar and T L_c-bar (2 vec4s); the ratio pass the sums of the four terms of
+// LtsdRatioTerms (4 vec4s).
+layout(std430, set = 0, binding = 7) writeonly buffer Output { vec4 outputs[]; };
 
 layout(push_constant) uniform Push {
-    uint first;  // first pixel of this dispatch
-    uint count;  // pixels in the image
+    uint first;    // first pixel of this dispatch
+    uint count;    // pixels in the image
     uint width;
-    uint pad;
+    uint samples;  // the ratio pass: camera samples per pixel
+    uint seed;
 } push;
 
 // Lavapipe loads from a storage buffer with one scalar load only outside control flow; inside it, a loop over the
@@ -59,5 +63,21 @@ void main() {
     uint pixel = push.first + gl_GlobalInvocationID.x;
     if (pixel >= push.count) return;
     int px = int(pixel % push.width), py = int(pixel / push.width);
-    radiance[pixel] = vec4(ltsdPixel(sceneFrame, px, py), 1.0);
+#ifdef TY_LTSD_RATIO
+    vec3 sums[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+    for (uint k = 0u; k < push.samples; ++k) {
+        LtsdRatioTerms r = ltsdRatioSample(sceneFrame, px, py, k, push.seed);
+        sums[0] += r.airNumerator;
+        sums[1] += r.airDenominator;
+        sums[2] += r.surfaceNumerator;
+        sums[3] += r.surfaceDenominator;
+    }
+    for (int i = 0; i < 4; ++i)
+        outputs[4u * pixel + uint(i)] = vec4(sums[i], 0.0);
+#else
+    vec3 air, surface;
+    ltsdPixelTerms(sceneFrame, px, py, air, surface);
+    outputs[2u * pixel] = vec4(air, 0.0);
+    outputs[2u * pixel + 1u] = vec4(surface, 0.0);
+#endif
 }

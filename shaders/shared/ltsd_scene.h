@@ -21,6 +21,8 @@
 #include "compat.h"
 #include "constants.h"
 #include "ltsd.h"
+#include "phase.h"
+#include "rng.h"
 #include "sampling.h"
 #include "surface.h"
 
@@ -64,8 +66,8 @@ struct LtsdFrame {
     int transmittance;  // kLtsdTransmittance*
     int supersampling;  // S: S x S rays per pixel on a regular grid (a box filter)
     float tailDistance;  // m: an unbounded camera segment ends here, where e^(-sigma_t t) < e^-9.2 ~ 1e-4
-    float pad0;
-    float pad1;
+    float g;             // the medium's Henyey-Greenstein asymmetry, for the ratio estimators' true phase function
+    float rayOffset;     // m, offset of shadow rays from surfaces (the ratio estimators)
     LtsdEntry upper;  // M_u and a_u of the medium's phase function (Eq. 24, fetched on the CPU: g is per medium)
     LtsdEntry lower;  // T (M_l = diag(1, 1, -1) T) and a_l
 };
@@ -214,8 +216,8 @@ TY_FUNC vec3 ltsdMeanTransmittance(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, T
         return exp(-f.sigmaT * ltsdChord(f, p, ltsdNearestPoint(light, p) - p));
     }
     // The mean over the light's solid angle: each fan triangle (v0, v_i, v_i+1) seen from p is a spherical triangle,
-    // mapped from [0, 1]^2 uniformly in solid angle (Arvo 1995) with kLtsdTransmittanceGrid^2 midpoint nodes, each
-    // weighted by its triangle's solid angle. The ray towards a node meets the light's plane at r = h / cos.
+    // mapped from [0, 1]^2 uniformly in solid angle (Arvo 1995, sampling.h) with kLtsdTransmittanceGrid^2 midpoint
+    // nodes, each weighted by its triangle's solid angle. The ray towards a node meets the light's plane at r = h / cos.
     vec3 sum = vec3(0.0f);
     float weights = 0.0f;
     float h = abs(ltsdPlaneDistance(light, p));
@@ -224,29 +226,14 @@ TY_FUNC vec3 ltsdMeanTransmittance(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, T
         if (i + 1 >= light.vertexCount) break;
         vec3 b = normalize(vec3(light.vertices[i]) - p);
         vec3 c = normalize(vec3(light.vertices[i + 1]) - p);
-        // The triangle's angle alpha at a, its side c (from a to b), its solid angle.
-        vec3 nab = cross(a, b), nac = cross(a, c);
-        float lab = length(nab), lac = length(nac);
-        if (!(lab > 1e-12f) || !(lac > 1e-12f)) continue;
-        float cosAlpha = clamp(dot(nab, nac) / (lab * lac), -1.0f, 1.0f);
-        float sinAlpha = sqrt(max(0.0f, 1.0f - cosAlpha * cosAlpha));
-        float alpha = acos(cosAlpha);
-        float cosSideC = dot(a, b);
-        float omega = abs(2.0f * atan(dot(a, cross(b, c)), 1.0f + dot(a, b) + dot(b, c) + dot(c, a)));
-        if (!(omega > 0.0f)) continue;
-        vec3 cPerp = normalize(c - dot(c, a) * a);
+        // The weight from Van Oosterom and Strackee's formula, accurate for tiny triangles too (far lights), where
+        // the sampler's own area from the interior angles is not.
+        float omega = sphericalTriangleSolidAngle(a, b, c);
         for (int k = 0; k < kLtsdTransmittanceGrid * kLtsdTransmittanceGrid; ++k) {
             int ku = k / kLtsdTransmittanceGrid, kv = k - ku * kLtsdTransmittanceGrid;
-            float u = (float(ku) + 0.5f) / float(kLtsdTransmittanceGrid);
-            float v = (float(kv) + 0.5f) / float(kLtsdTransmittanceGrid);
-            // Arvo: the sub-triangle (a, b, c') of area u omega, then a point on the arc from b to c'.
-            float subArea = u * omega;
-            float s = sin(subArea - alpha), t = cos(subArea - alpha);
-            float uu = t - cosAlpha, vv = s + sinAlpha * cosSideC;
-            float q = clamp(((vv * t - uu * s) * cosAlpha - vv) / ((vv * s + uu * t) * sinAlpha), -1.0f, 1.0f);
-            vec3 cHat = q * a + sqrt(max(0.0f, 1.0f - q * q)) * cPerp;
-            float z = 1.0f - v * (1.0f - dot(cHat, b));
-            vec3 w = z * b + sqrt(max(0.0f, 1.0f - z * z)) * normalize(cHat - dot(cHat, b) * b);
+            vec2 u = (vec2(float(ku), float(kv)) + 0.5f) / float(kLtsdTransmittanceGrid);
+            float unused;
+            vec3 w = sampleSphericalTriangle(a, b, c, u, unused);
             float r = h / max(abs(dot(w, light.normal)), 1e-6f);
             sum += omega * exp(-f.sigmaT * ltsdChord(f, p, r * w));
             weights += omega;
@@ -340,15 +327,16 @@ TY_FUNC vec3 ltsdAirLight(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(vec3
     return sum;
 }
 
-// The radiance along the camera ray through the image point (x, y) in pixel coordinates: Eq. 15, the quadrature of
-// the air-light plus the attenuated analytic surface radiance (Eq. 12) of the diffuse surface behind.
-TY_FUNC vec3 ltsdRay(TY_IN(LtsdFrame) f, float x, float y) {
+// The radiance along the camera ray through the image point (x, y) in pixel coordinates, Eq. 15 in its two terms: the
+// quadrature of the air-light (`air`, A-bar) and the attenuated analytic surface radiance (Eq. 12) of the diffuse
+// surface behind (`surface`, T(y, x) L_c-bar).
+TY_FUNC void ltsdRayTerms(TY_IN(LtsdFrame) f, float x, float y, TY_OUT(vec3) air, TY_OUT(vec3) surface) {
     vec3 origin, dir;
     cameraRay(f.camera, x, y, origin, dir);
-    vec3 sum = vec3(0.0f);
+    air = vec3(0.0f);
+    surface = vec3(0.0f);
 #ifdef TY_LTSD_NO_SURFACES
     float tEnd = kInfinity;
-    bool hasHit = false;
 #else
     BvhHit hit;
     bool hasHit = bvhIntersect(origin, dir, 0.0f, kInfinity, hit);
@@ -359,12 +347,11 @@ TY_FUNC vec3 ltsdRay(TY_IN(LtsdFrame) f, float x, float y) {
         vec2 seg = ltsdMediumSegment(f, origin, dir, 0.0f, tEnd);
         seg.y = min(seg.y, seg.x + f.tailDistance);
         if (seg.y > seg.x) {
-            vec3 air = vec3(0.0f);
             for (int l = 0; l < kLtsdMaxLights; ++l) {
                 if (l >= ltsdLightCount(f)) break;
                 air += ltsdAirLight(f, ltsdLight(l), origin, dir, seg.x, seg.y);
             }
-            sum += f.sigmaS * air;
+            air *= f.sigmaS;
         }
     }
 #endif
@@ -383,21 +370,158 @@ TY_FUNC vec3 ltsdRay(TY_IN(LtsdFrame) f, float x, float y) {
             float e = ltsdClampedCosineIntegral(ltsdLocalPolygon(light, xs, frame.t, frame.b, frame.n));
             reflected += light.radiance * ltsdMeanTransmittance(f, light, xs) * e;
         }
-        sum += exp(-f.sigmaT * ltsdChord(f, origin, hit.t * dir)) * material.albedo * reflected;
+        surface = exp(-f.sigmaT * ltsdChord(f, origin, hit.t * dir)) * material.albedo * reflected;
     }
 #endif
-    return sum;
 }
 
-// The pixel (px, py): the mean of its S x S rays on a regular grid, a box filter like the reference's.
-TY_FUNC vec3 ltsdPixel(TY_IN(LtsdFrame) f, int px, int py) {
+TY_FUNC vec3 ltsdRay(TY_IN(LtsdFrame) f, float x, float y) {
+    vec3 air, surface;
+    ltsdRayTerms(f, x, y, air, surface);
+    return air + surface;
+}
+
+// The pixel (px, py): the means of its S x S rays on a regular grid, a box filter like the reference's, in its two
+// terms.
+TY_FUNC void ltsdPixelTerms(TY_IN(LtsdFrame) f, int px, int py, TY_OUT(vec3) air, TY_OUT(vec3) surface) {
     int S = max(f.supersampling, 1);
-    vec3 sum = vec3(0.0f);
+    air = vec3(0.0f);
+    surface = vec3(0.0f);
     for (int k = 0; k < S * S; ++k) {
         int sy = k / S, sx = k - sy * S;
-        sum += ltsdRay(f, float(px) + (float(sx) + 0.5f) / float(S), float(py) + (float(sy) + 0.5f) / float(S));
+        vec3 a, c;
+        ltsdRayTerms(f, float(px) + (float(sx) + 0.5f) / float(S), float(py) + (float(sy) + 0.5f) / float(S), a, c);
+        air += a;
+        surface += c;
     }
-    return sum / float(S * S);
+    air /= float(S * S);
+    surface /= float(S * S);
+}
+
+TY_FUNC vec3 ltsdPixel(TY_IN(LtsdFrame) f, int px, int py) {
+    vec3 air, surface;
+    ltsdPixelTerms(f, px, py, air, surface);
+    return air + surface;
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Ratio estimators for shadows (Sec. 6)
+
+// One camera sample's Monte Carlo estimates of the numerators (with visibility) and denominators (without) of the
+// ratio estimators of Eq. 22 for the air-light and of its counterpart for the surface: the true phase function and
+// transmittance, every light with one point sampled uniformly on its area and, for the air-light, one distance
+// sampled equiangularly from its centre. Numerator and denominator share every sample, so their ratio is far less
+// noisy than either.
+struct LtsdRatioTerms {
+    vec3 airNumerator;
+    vec3 airDenominator;
+    vec3 surfaceNumerator;
+    vec3 surfaceDenominator;
+};
+
+// A point uniform on the light's area (a fan triangle chosen by area, then a point in it); returns 1 / pdf (the area).
+TY_FUNC float ltsdSampleLightPoint(TY_IN(LtsdLight) light, TY_IN(vec2) u, TY_IN(float) uTriangle, TY_OUT(vec3) q) {
+    vec3 a = vec3(light.vertices[0]);
+    float total = 0.0f;
+    for (int i = 1; i + 1 < kLtsdLightMaxVertices; ++i) {
+        if (i + 1 >= light.vertexCount) break;
+        total += length(cross(vec3(light.vertices[i]) - a, vec3(light.vertices[i + 1]) - a));
+    }
+    float target = uTriangle * total, running = 0.0f;
+    q = a;
+    bool chosen = false;
+    for (int i = 1; i + 1 < kLtsdLightMaxVertices; ++i) {
+        if (i + 1 >= light.vertexCount || chosen) break;
+        vec3 b = vec3(light.vertices[i]), c = vec3(light.vertices[i + 1]);
+        running += length(cross(b - a, c - a));
+        if (target <= running || i + 2 >= light.vertexCount) {
+            float su = sqrt(u.x);
+            q = (1.0f - su) * a + su * (1.0f - u.y) * b + su * u.y * c;
+            chosen = true;
+        }
+    }
+    return 0.5f * total;
+}
+
+TY_FUNC LtsdRatioTerms ltsdRatioSample(TY_IN(LtsdFrame) f, int px, int py, uint index, uint seed) {
+    LtsdRatioTerms r;
+    r.airNumerator = vec3(0.0f);
+    r.airDenominator = vec3(0.0f);
+    r.surfaceNumerator = vec3(0.0f);
+    r.surfaceDenominator = vec3(0.0f);
+    uint pixelSeed = hashCombine(seed, uint(py) * 65536u + uint(px));
+    vec2 jitter = sobolSample2D(pixelSeed, index, 0u);
+    vec3 origin, dir;
+    cameraRay(f.camera, float(px) + jitter.x, float(py) + jitter.y, origin, dir);
+#ifdef TY_LTSD_NO_SURFACES
+    float tEnd = kInfinity;
+#else
+    BvhHit hit;
+    bool hasHit = bvhIntersect(origin, dir, 0.0f, kInfinity, hit);
+    float tEnd = hasHit ? hit.t : kInfinity;
+#endif
+    for (int l = 0; l < kLtsdMaxLights; ++l) {
+        if (l >= ltsdLightCount(f)) break;
+        LtsdLight light = ltsdLight(l);
+        uint pair = 1u + 4u * uint(l);
+#ifndef TY_LTSD_NO_MEDIUM
+        vec2 seg = f.hasMedium != 0 ? ltsdMediumSegment(f, origin, dir, 0.0f, tEnd) : vec2(0.0f);
+        seg.y = min(seg.y, seg.x + f.tailDistance);
+        if (f.hasMedium != 0 && seg.y > seg.x) {
+            vec2 ud = sobolSample2D(pixelSeed, index, pair);
+            vec2 uq = sobolSample2D(pixelSeed, index, pair + 1u);
+            Equiangular e = equiangularSetup(origin, dir, light.centre, seg.x, seg.y);
+            float pdfT;
+            float t = equiangularSample(e, ud.x, pdfT);
+            vec3 z = origin + t * dir;
+            vec3 q;
+            float area = ltsdSampleLightPoint(light, uq, ud.y, q);
+            vec3 v = q - z;
+            float r2 = dot(v, v);
+            float rl = sqrt(r2);
+            vec3 wi = v / rl;
+            float cosLight = -dot(wi, light.normal);
+#ifndef TY_LTSD_ONE_SIDED
+            if (light.twoSided != 0) cosLight = abs(cosLight);
+#endif
+            if (cosLight > 0.0f && pdfT > 0.0f && r2 > 0.0f) {
+                // Eq. 1-2 with the true HG (mu = dot(d, omega_i)) and the true transmittance on both legs.
+                vec3 value = exp(-f.sigmaT * (t - seg.x + ltsdChord(f, z, v))) * f.sigmaS * light.radiance *
+                             (henyeyGreenstein(dot(dir, wi), f.g) * cosLight / r2 * area / pdfT);
+                r.airDenominator += value;
+                if (!bvhOccluded(z, wi, 0.0f, rl * (1.0f - 1e-4f))) r.airNumerator += value;
+            }
+        }
+#endif
+#ifndef TY_LTSD_NO_SURFACES
+        if (hasHit) {
+            vec2 uq = sobolSample2D(pixelSeed, index, pair + 2u);
+            SurfaceTriangle st = ltsdTriangle(int(hit.id));
+            SurfaceFrame frame = surfaceFrame(st, hit.uv, dir);
+            MaterialParams material = ltsdMaterial(st.material);
+            vec3 xs = origin + hit.t * dir;
+            vec3 q;
+            float area = ltsdSampleLightPoint(light, uq, sobolSample2D(pixelSeed, index, pair + 3u).x, q);
+            vec3 v = q - xs;
+            float r2 = dot(v, v);
+            float rl = sqrt(r2);
+            vec3 wi = v / rl;
+            float cosLight = -dot(wi, light.normal);
+#ifndef TY_LTSD_ONE_SIDED
+            if (light.twoSided != 0) cosLight = abs(cosLight);
+#endif
+            float cosSurface = dot(wi, frame.ng) > 0.0f ? dot(wi, frame.n) : 0.0f;
+            if (cosLight > 0.0f && cosSurface > 0.0f && r2 > 0.0f) {
+                vec3 value = exp(-f.sigmaT * ltsdChord(f, xs, v)) * material.albedo * kInvPi * light.radiance *
+                             (cosSurface * cosLight / r2 * area);
+                r.surfaceDenominator += value;
+                if (!bvhOccluded(xs + f.rayOffset * frame.ng, wi, 0.0f, rl * (1.0f - 1e-4f)))
+                    r.surfaceNumerator += value;
+            }
+        }
+#endif
+    }
+    return r;
 }
 
 TY_END
