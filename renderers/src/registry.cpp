@@ -4,6 +4,7 @@
 #include "tyndall/technique.h"
 
 #include "pegoraro/pegoraro.h"
+#include "volume_ris/volume_ris.h"
 #include "wvds/wvds.h"
 #include "reference/reference.h"
 
@@ -21,6 +22,7 @@ struct Registry {
         factories["reference"] = [] { return std::make_unique<ReferenceTechnique>(); };
         factories["pegoraro"] = [] { return std::make_unique<PegoraroTechnique>(); };
         factories["wvds"] = [] { return std::make_unique<WvdsTechnique>(); };
+        factories["volume-ris"] = [] { return std::make_unique<VolumeRisTechnique>(); };
     }
 };
 
