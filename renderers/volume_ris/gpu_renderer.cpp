@@ -38,8 +38,11 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene) {
     const shader::RisFrame& f = scene.frame;
     const bool surfaces = scene.surfaces.triangleCount > 0;
     const int vertexTotal = f.lightCount > 0 ? int(scene.vertices.size()) : 0;
+    int maxVertices = 3;
+    for (int i = 0; i < f.lightCount; ++i)
+        maxVertices = std::max(maxVertices, scene.lights[std::size_t(i)].vertexCount);
     const std::string key = "m" + std::to_string(f.mediumKind) + "-p" + std::to_string(f.planeCount) + "-l" +
-                            std::to_string(f.lightCount) + "-v" + std::to_string(vertexTotal) + "-ph" +
+                            std::to_string(f.lightCount) + "-v" + std::to_string(vertexTotal) + "-mv" + std::to_string(maxVertices) + "-ph" +
                             std::to_string(f.phase.kind) + "-d" + std::to_string(f.distanceSampling) +
                             (surfaces ? "" : "-nosurfaces") + (scene.grey ? "-grey" : "");
     auto it = kernels_.find(key);
@@ -53,7 +56,8 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene) {
     std::string defines = "#define TY_RIS_MEDIUM " + std::to_string(f.mediumKind) + "\n#define TY_RIS_PLANES " +
                           std::to_string(f.planeCount) + "\n#define TY_RIS_LIGHTS " + std::to_string(f.lightCount) +
                           "\n#define TY_PHASE_KIND " + std::to_string(f.phase.kind) + "\n#define TY_RIS_DISTANCE " +
-                          std::to_string(f.distanceSampling) + "\n";
+                          std::to_string(f.distanceSampling) + "\n#define TY_RIS_VERTICES " +
+                          std::to_string(maxVertices) + "\n";
     if (vertexTotal > 0) defines += "#define TY_RIS_VERTEX_TOTAL " + std::to_string(vertexTotal) + "\n";
     if (!surfaces) defines += "#define TY_RIS_NO_SURFACES\n";
     if (scene.grey) defines += "#define TY_RIS_GREY\n";

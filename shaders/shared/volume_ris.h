@@ -19,6 +19,7 @@
 //   TY_RIS_LIGHTS n       exactly n lights                  TY_RIS_MEDIUM k    kRisMedium* of the medium
 //   TY_RIS_PLANES n       exactly n medium planes           TY_RIS_GREY        grey extinction
 //   TY_RIS_DISTANCE k     kRisTransmittance / kRisEquiangular
+//   TY_RIS_VERTICES n     no light has more than n vertices: the fan walk runs n - 2 times, not kRisMaxVertices - 2
 //   TY_RIS_NO_SURFACES    the scene has no triangles (no camera hits, no shadow rays)
 #ifndef TY_SHARED_VOLUME_RIS_H
 #define TY_SHARED_VOLUME_RIS_H
@@ -85,6 +86,12 @@ vec4 risVertex(int i);
 SurfaceTriangle risTriangle(int id);
 MaterialParams risMaterial(int i);
 
+// Constant loop bounds, exact where the shader knows them (lavapipe runs a loop's body for lanes that skip it).
+#ifdef TY_RIS_VERTICES
+TY_CONST int kRisVertexLoop = TY_RIS_VERTICES;
+#else
+TY_CONST int kRisVertexLoop = kRisMaxVertices;
+#endif
 #ifdef TY_RIS_LIGHTS
 TY_CONST int kRisLightLoop = TY_RIS_LIGHTS;
 #else
@@ -186,8 +193,9 @@ TY_FUNC float risDistancePdf(float sigma, float a, float b, float t) {
 // receives the light, `pdfArea` the density in area measure (selectPdf / area; 0 when no light can be chosen).
 TY_FUNC vec3 risSampleLightPoint(TY_IN(RisFrame) f, TY_IN(vec3) u, TY_OUT(int) light, TY_OUT(float) pdfArea) {
     light = -1;
+    // Breaks (not continues) past the counts: on the CPU the constant bounds are the maxima.
     for (int i = 0; i < kRisLightLoop; ++i) {
-        if (i >= f.lightCount) continue;
+        if (i >= f.lightCount) break;
         RisLight candidate = risLight(i);
         if (candidate.selectPdf > 0.0f && (light < 0 || u.x >= candidate.selectStart)) light = i;
     }
@@ -199,8 +207,8 @@ TY_FUNC vec3 risSampleLightPoint(TY_IN(RisFrame) f, TY_IN(vec3) u, TY_OUT(int) l
     vec3 p0 = vec3(risVertex(l.vertexFirst));
     vec4 p1 = risVertex(l.vertexFirst + 1), p2 = risVertex(l.vertexFirst + 2);
     bool found = false;
-    for (int k = 2; k < kRisMaxVertices; ++k) {
-        if (found || k >= l.vertexCount) continue;
+    for (int k = 2; k < kRisVertexLoop; ++k) {
+        if (found || k >= l.vertexCount) break;
         vec4 q = risVertex(l.vertexFirst + k);
         if (v < q.w || k == l.vertexCount - 1) {
             found = true;
