@@ -43,8 +43,8 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene) {
         maxVertices = std::max(maxVertices, scene.lights[std::size_t(i)].vertexCount);
     const std::string key = "m" + std::to_string(f.mediumKind) + "-p" + std::to_string(f.planeCount) + "-l" +
                             std::to_string(f.lightCount) + "-v" + std::to_string(vertexTotal) + "-mv" + std::to_string(maxVertices) + "-ph" +
-                            std::to_string(f.phase.kind) + "-d" + std::to_string(f.distanceSampling) +
-                            (surfaces ? "" : "-nosurfaces") + (scene.grey ? "-grey" : "");
+                            std::to_string(f.phase.kind) + "-d" + std::to_string(f.distanceSampling) + "-ls" +
+                            std::to_string(f.lightSampling) + (surfaces ? "" : "-nosurfaces") + (scene.grey ? "-grey" : "");
     auto it = kernels_.find(key);
     if (it != kernels_.end()) return *it->second;
     const auto start = std::chrono::steady_clock::now();
@@ -57,7 +57,8 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene) {
                           std::to_string(f.planeCount) + "\n#define TY_RIS_LIGHTS " + std::to_string(f.lightCount) +
                           "\n#define TY_PHASE_KIND " + std::to_string(f.phase.kind) + "\n#define TY_RIS_DISTANCE " +
                           std::to_string(f.distanceSampling) + "\n#define TY_RIS_VERTICES " +
-                          std::to_string(maxVertices) + "\n";
+                          std::to_string(maxVertices) + "\n#define TY_RIS_LIGHT_SAMPLING " +
+                          std::to_string(f.lightSampling) + "\n";
     if (vertexTotal > 0) defines += "#define TY_RIS_VERTEX_TOTAL " + std::to_string(vertexTotal) + "\n";
     if (!surfaces) defines += "#define TY_RIS_NO_SURFACES\n";
     if (scene.grey) defines += "#define TY_RIS_GREY\n";

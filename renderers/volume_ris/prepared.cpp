@@ -33,6 +33,7 @@ Settings settingsFrom(const ParamSet& params) {
     s.samplesPerPixel = int(params.getInt("samplesPerPixel"));
     s.distanceSampling =
         params.getEnum("distanceSampling") == "equiangular" ? shader::kRisEquiangular : shader::kRisTransmittance;
+    s.lightSampling = params.getEnum("lightSampling") == "area" ? shader::kRisArea : shader::kRisSolidAngle;
     s.shadows = params.getBool("shadows");
     return s;
 }
@@ -97,6 +98,10 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, std::ui
         rl.vertexFirst = int(p.vertices.size());
         rl.vertexCount = int(l.vertices.size());
         rl.twoSided = l.twoSided ? 1 : 0;
+        Vec3 centre(0.0);
+        for (const Vec3& v : l.vertices)
+            centre += v;
+        rl.centre = glm::vec3(centre / double(l.vertices.size()));
         // The fan (v0, v_k-1, v_k) and its cumulative areas, in double.
         std::vector<double> cumulative(l.vertices.size(), 0.0);
         for (std::size_t k = 2; k < l.vertices.size(); ++k)
@@ -119,6 +124,7 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, std::ui
 
     f.candidates = settings.candidates;
     f.distanceSampling = settings.distanceSampling;
+    f.lightSampling = settings.lightSampling;
     f.shadows = settings.shadows ? 1 : 0;
     f.seed = std::uint32_t(seed ^ (seed >> 32));
 

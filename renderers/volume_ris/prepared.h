@@ -20,6 +20,7 @@ struct Settings {
     int candidates = 32;       // M
     int samplesPerPixel = 16;  // camera rays per pixel when the request does not say
     int distanceSampling = shader::kRisTransmittance;
+    int lightSampling = shader::kRisSolidAngle;
     bool shadows = true;
 };
 

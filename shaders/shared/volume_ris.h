@@ -19,6 +19,7 @@
 //   TY_RIS_LIGHTS n       exactly n lights                  TY_RIS_MEDIUM k    kRisMedium* of the medium
 //   TY_RIS_PLANES n       exactly n medium planes           TY_RIS_GREY        grey extinction
 //   TY_RIS_DISTANCE k     kRisTransmittance / kRisEquiangular
+//   TY_RIS_LIGHT_SAMPLING k   kRisSolidAngle / kRisArea
 //   TY_RIS_VERTICES n     no light has more than n vertices: the fan walk runs n - 2 times, not kRisMaxVertices - 2
 //   TY_RIS_NO_SURFACES    the scene has no triangles (no camera hits, no shadow rays)
 #ifndef TY_SHARED_VOLUME_RIS_H
@@ -45,9 +46,12 @@ TY_CONST int kRisMediumInfinite = 1;
 TY_CONST int kRisMediumPlanes = 2;  // a box or a convex polyhedron, as half-spaces
 
 TY_CONST int kRisTransmittance = 0;  // t with density proportional to the camera transmittance on the segment
-TY_CONST int kRisEquiangular = 1;    // t equiangular about the candidate's light point (Kulla and Fajardo 2012)
+TY_CONST int kRisEquiangular = 1;    // t equiangular about the chosen light (Kulla and Fajardo 2012)
 
-// A convex planar polygon light, 48 bytes (std430). Its vertices are risVertex(vertexFirst + k), k < vertexCount, as
+TY_CONST int kRisSolidAngle = 0;  // the light point uniform in the polygon's solid angle seen from the shading point
+TY_CONST int kRisArea = 1;        // the light point uniform on the polygon's area
+
+// A convex planar polygon light, 64 bytes (std430). Its vertices are risVertex(vertexFirst + k), k < vertexCount, as
 // (position, w): w of vertex k >= 2 is the cumulative area fraction of the fan triangles (v0, v1, v2) .. (v0, v_k-1,
 // v_k); w of vertices 0 and 1 is 0.
 struct RisLight {
@@ -59,6 +63,8 @@ struct RisLight {
     float selectStart;  // the selection cdf before this light (lights are chosen by power)
     float selectPdf;    // the probability with which it is chosen
     int twoSided;
+    vec3 centre;  // the vertices' mean: what equiangular sampling aims at
+    float pad0;
 };
 
 // Everything else a frame needs, 272 bytes.
@@ -74,8 +80,8 @@ struct RisFrame {
     int distanceSampling;  // kRisTransmittance or kRisEquiangular
     float rayOffset;       // m, offset of shadow rays leaving surfaces
     uint seed;
-    int shadows;  // 1: the chosen candidate's visibility by a shadow ray; 0: the unshadowed image
-    int pad0;
+    int shadows;        // 1: the chosen candidate's visibility by a shadow ray; 0: the unshadowed image
+    int lightSampling;  // kRisSolidAngle or kRisArea
     PhaseParams phase;
 };
 
@@ -119,6 +125,14 @@ TY_FUNC int risDistanceSampling(TY_IN(RisFrame) f) {
     return TY_RIS_DISTANCE;
 #else
     return f.distanceSampling;
+#endif
+}
+
+TY_FUNC int risLightSampling(TY_IN(RisFrame) f) {
+#ifdef TY_RIS_LIGHT_SAMPLING
+    return TY_RIS_LIGHT_SAMPLING;
+#else
+    return f.lightSampling;
 #endif
 }
 
@@ -189,21 +203,26 @@ TY_FUNC float risDistancePdf(float sigma, float a, float b, float t) {
     return sigma * exp(-sigma * (t - a)) / norm;
 }
 
-// A point on a light, chosen by power and then uniformly on its area, from u in [0, 1)^3. Returns the point; `light`
-// receives the light, `pdfArea` the density in area measure (selectPdf / area; 0 when no light can be chosen).
-TY_FUNC vec3 risSampleLightPoint(TY_IN(RisFrame) f, TY_IN(vec3) u, TY_OUT(int) light, TY_OUT(float) pdfArea) {
-    light = -1;
+// Chooses a light by power from u in [0, 1): returns its index (-1 when none can be chosen); `rest` receives u
+// rescaled to [0, 1) within the light's share, for the next choice.
+TY_FUNC int risChooseLight(TY_IN(RisFrame) f, float u, TY_OUT(float) rest) {
+    int light = -1;
     // Breaks (not continues) past the counts: on the CPU the constant bounds are the maxima.
     for (int i = 0; i < kRisLightLoop; ++i) {
         if (i >= f.lightCount) break;
         RisLight candidate = risLight(i);
-        if (candidate.selectPdf > 0.0f && (light < 0 || u.x >= candidate.selectStart)) light = i;
+        if (candidate.selectPdf > 0.0f && (light < 0 || u >= candidate.selectStart)) light = i;
     }
-    pdfArea = 0.0f;
-    if (light < 0) return vec3(0.0f);
+    rest = 0.0f;
+    if (light < 0) return light;
     RisLight l = risLight(light);
-    // The rest of u.x chooses the fan triangle by area.
-    float v = clamp((u.x - l.selectStart) / l.selectPdf, 0.0f, kOneMinusEpsilon);
+    rest = clamp((u - l.selectStart) / l.selectPdf, 0.0f, kOneMinusEpsilon);
+    return light;
+}
+
+// A point uniform on light l's area from v (the fan triangle, by area) and u (the point in it). Returns the point;
+// `pdfArea` receives 1 / area.
+TY_FUNC vec3 risSampleArea(TY_IN(RisLight) l, float v, TY_IN(vec2) u, TY_OUT(float) pdfArea) {
     vec3 p0 = vec3(risVertex(l.vertexFirst));
     vec4 p1 = risVertex(l.vertexFirst + 1), p2 = risVertex(l.vertexFirst + 2);
     bool found = false;
@@ -218,9 +237,71 @@ TY_FUNC vec3 risSampleLightPoint(TY_IN(RisFrame) f, TY_IN(vec3) u, TY_OUT(int) l
         }
     }
     // Uniform on the triangle (p0, p1, p2).
-    float s = sqrt(u.y);
-    pdfArea = l.selectPdf / l.area;
-    return p0 * (1.0f - s) + vec3(p1) * (s * (1.0f - u.z)) + vec3(p2) * (s * u.z);
+    float s = sqrt(u.x);
+    pdfArea = 1.0f / l.area;
+    return p0 * (1.0f - s) + vec3(p1) * (s * (1.0f - u.y)) + vec3(p2) * (s * u.y);
+}
+
+// A point on light l uniform in the solid angle its polygon subtends at x: the fan triangles' spherical triangles, one
+// chosen by solid angle with v, then Arvo's sampler (sampling.h) with u, as the reference samples area lights. Returns
+// the point; `pdfArea` receives the density in area measure, |cos theta_y| / (r^2 Omega); 0 when x sees the polygon
+// from behind (one-sided), in its plane, or under a solid angle below 1e-9 sr (the reference's cut).
+TY_FUNC vec3 risSampleSolidAngle(TY_IN(RisLight) l, TY_IN(vec3) x, float v, TY_IN(vec2) u, TY_OUT(float) pdfArea) {
+    pdfArea = 0.0f;
+    vec3 v0 = vec3(risVertex(l.vertexFirst));
+    float side = dot(x - v0, l.normal);
+    if (side == 0.0f || (l.twoSided == 0 && side < 0.0f)) return v0;
+    vec3 a = normalize(v0 - x);
+    float total = 0.0f;
+    for (int k = 2; k < kRisVertexLoop; ++k) {
+        if (k >= l.vertexCount) break;
+        vec3 b = normalize(vec3(risVertex(l.vertexFirst + k - 1)) - x);
+        vec3 c = normalize(vec3(risVertex(l.vertexFirst + k)) - x);
+        total += sphericalTriangleSolidAngle(a, b, c);
+    }
+    if (!(total > 1e-9f)) return v0;
+    // The triangle whose share of the total holds v, and v rescaled within it.
+    float target = v * total, below = 0.0f;
+    vec3 cb = a, cc = a;
+    bool found = false;
+    for (int k = 2; k < kRisVertexLoop; ++k) {
+        if (found || k >= l.vertexCount) break;
+        vec3 b = normalize(vec3(risVertex(l.vertexFirst + k - 1)) - x);
+        vec3 c = normalize(vec3(risVertex(l.vertexFirst + k)) - x);
+        float omega = sphericalTriangleSolidAngle(a, b, c);
+        if (target < below + omega || k == l.vertexCount - 1) {
+            found = true;
+            cb = b;
+            cc = c;
+        } else {
+            below += omega;
+        }
+    }
+    float omega;
+    vec3 dir = sampleSphericalTriangle(a, cb, cc, u, omega);
+    if (!(omega > 1e-7f)) return v0;  // a degenerate sliver: no usable direction
+    float cosLight = dot(dir, l.normal);
+    if (cosLight == 0.0f) return v0;
+    float r = -side / cosLight;
+    if (!(r > 0.0f)) return v0;
+    pdfArea = abs(cosLight) / (r * r * total);
+    return x + r * dir;
+}
+
+// A point on a light for the shading point x: the light by power (u.x), then by the frame's light sampling (the rest
+// of u.x and u.yz). Returns the point; `light` receives the light, `pdfArea` the density in area measure (0 when none).
+TY_FUNC vec3 risSampleLightPoint(TY_IN(RisFrame) f, TY_IN(vec3) x, TY_IN(vec3) u, TY_OUT(int) light,
+                                 TY_OUT(float) pdfArea) {
+    float v;
+    light = risChooseLight(f, u.x, v);
+    pdfArea = 0.0f;
+    if (light < 0) return vec3(0.0f);
+    RisLight l = risLight(light);
+    float pdf;
+    vec3 y = risLightSampling(f) == kRisArea ? risSampleArea(l, v, vec2(u.y, u.z), pdf)
+                                             : risSampleSolidAngle(l, x, v, vec2(u.y, u.z), pdf);
+    pdfArea = l.selectPdf * pdf;
+    return y;
 }
 
 // Light emitted by light `i` from its point y towards x, times the geometry term |cos_y| / r^2: zero behind a one-sided
@@ -247,29 +328,34 @@ TY_FUNC bool risOccluded(TY_IN(RisFrame) f, TY_IN(vec3) x, TY_IN(vec3) l, float 
 }
 
 // One medium candidate for the camera ray o + t d whose medium part is [a, b] (entered at tIn) from u in [0, 1)^4:
-// returns the unshadowed contribution f(t, y); `pdf` receives p(t, y), `x`, `l`, `r` the scattering point, the
-// direction and the distance to the light point.
+// returns the unshadowed contribution f(t, y); `pdf` receives p(t, y) in the measure dt dA(y), `x`, `l`, `r` the
+// scattering point, the direction and the distance to the light point. The light is chosen first (u.x); then t
+// (u.w: transmittance-proportional, or equiangular about the light's centre); then y seen from x (u.yz).
 TY_FUNC vec3 risMediumCandidate(TY_IN(RisFrame) f, TY_IN(vec3) o, TY_IN(vec3) d, float tIn, float a, float b,
                                 TY_IN(vec4) u, TY_OUT(float) pdf, TY_OUT(vec3) x, TY_OUT(vec3) l, TY_OUT(float) r) {
-    int light;
-    float pdfArea;
-    vec3 y = risSampleLightPoint(f, vec3(u), light, pdfArea);
     pdf = 0.0f;
     x = o;
     l = vec3(0.0f, 0.0f, 1.0f);
     r = 0.0f;
-    if (!(pdfArea > 0.0f)) return vec3(0.0f);
+    float v;
+    int light = risChooseLight(f, u.x, v);
+    if (light < 0) return vec3(0.0f);
+    RisLight lt = risLight(light);
     float t, pdfT;
     if (risDistanceSampling(f) == kRisEquiangular) {
-        Equiangular e = equiangularSetup(o, d, y, a, b);
+        Equiangular e = equiangularSetup(o, d, lt.centre, a, b);
         t = clamp(equiangularSample(e, u.w, pdfT), a, b);
     } else {
         t = risDistanceSample(f.sigmaSample, a, b, u.w, pdfT);
     }
     if (!(pdfT > 0.0f)) return vec3(0.0f);
-    pdf = pdfArea * pdfT;
     x = o + t * d;
-    vec3 emitted = risEmission(risLight(light), y, x, l, r);
+    float pdfY;
+    vec3 y = risLightSampling(f) == kRisArea ? risSampleArea(lt, v, vec2(u.y, u.z), pdfY)
+                                             : risSampleSolidAngle(lt, x, v, vec2(u.y, u.z), pdfY);
+    if (!(pdfY > 0.0f)) return vec3(0.0f);
+    pdf = lt.selectPdf * pdfY * pdfT;
+    vec3 emitted = risEmission(lt, y, x, l, r);
     if (emitted == vec3(0.0f)) return vec3(0.0f);
     vec3 cameraT = risTransmittance(f, t - tIn);
     vec3 lightT = risTransmittance(f, risLengthInMedium(f, x, l, r));
@@ -348,7 +434,7 @@ TY_FUNC vec3 risSample(TY_IN(RisFrame) f, int px, int py, uint index) {
             u.z = pcg32NextFloat(rng);
             int light;
             float pdfArea;
-            vec3 y = risSampleLightPoint(f, u, light, pdfArea);
+            vec3 y = risSampleLightPoint(f, xs, u, light, pdfArea);
             vec3 c = vec3(0.0f), l = vec3(0.0f, 0.0f, 1.0f);
             float r = 0.0f;
             if (pdfArea > 0.0f) {

@@ -8,6 +8,7 @@
 //   TY_RIS_VERTEX_TOTAL n  exactly n light vertices in all: copied to private memory once
 //   TY_RIS_DISTANCE k      the distance sampler (kRisTransmittance, kRisEquiangular)
 //   TY_RIS_VERTICES n      no light has more than n vertices
+//   TY_RIS_LIGHT_SAMPLING k  the light-point sampler (kRisSolidAngle, kRisArea)
 //   TY_PHASE_KIND k        the medium's phase function (kPhase* in phase.h): the other kinds are left out
 //   TY_RIS_GREY            the medium's extinction is the same in every channel
 //   TY_RIS_NO_SURFACES     the scene has no triangles: no camera hits, shadow rays or surface shading

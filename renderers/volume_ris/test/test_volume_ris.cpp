@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <random>
 
 namespace tyndall::volume_ris::test {
@@ -81,6 +82,8 @@ TEST(VolumeRisSampling, LightPointsAreChosenByPowerAndUniformOnTheArea) {
     const PreparedScene scene = prepareScene(job.request.scene, settingsFrom(job.request.params), 1, "");
     SceneScope scope(scene);
     ASSERT_EQ(scene.frame.lightCount, 2);
+    shader::RisFrame frame = scene.frame;
+    frame.lightSampling = shader::kRisArea;
     const AreaLight& pentagon = job.request.scene.areaLights[1];
     ASSERT_EQ(pentagon.vertices.size(), 5u);
     // The pentagon lies in x = -1.3: grid over its (y, z) bounding box.
@@ -115,8 +118,9 @@ TEST(VolumeRisSampling, LightPointsAreChosenByPowerAndUniformOnTheArea) {
     for (int k = 0; k < kSamples; ++k) {
         int light;
         float pdfArea;
-        const glm::vec3 p = shader::risSampleLightPoint(scene.frame, glm::vec3(uniform(rng), uniform(rng), uniform(rng)),
-                                                        light, pdfArea);
+        const glm::vec3 p = shader::risSampleLightPoint(frame, glm::vec3(0.0f),
+                                                        glm::vec3(uniform(rng), uniform(rng), uniform(rng)), light,
+                                                        pdfArea);
         ASSERT_TRUE(light == 0 || light == 1);
         ++chosen[light];
         EXPECT_FLOAT_EQ(pdfArea, scene.lights[std::size_t(light)].selectPdf / scene.lights[std::size_t(light)].area);
@@ -140,6 +144,76 @@ TEST(VolumeRisSampling, LightPointsAreChosenByPowerAndUniformOnTheArea) {
         expected[c] = share[c] / total * chosen[1];
     const auto r = chiSquareTest(observed, expected);
     EXPECT_GT(r.pValue, 1e-3) << r.describe();
+}
+
+// Solid-angle sampling of a light point, seen from shading points near, far, oblique and behind the lights: every point
+// lies on its polygon, and the density in area measure is right: the mean of 1 / pdf estimates the light's area (the
+// integral of 1 dA), and the mean of |y - c|^2 / pdf its second moment about the centre c, against the same integrals
+// by 2-D quadrature over the fan triangles, to 4 standard errors. Behind the one-sided quad nothing is sampled.
+TEST(VolumeRisSampling, SolidAngleDensityIntegratesOverThePolygon) {
+    const Project project = loadShaft(16, 16);
+    RenderJob job = makeViewJob(project, kProject, "two lights", {});
+    const PreparedScene scene = prepareScene(job.request.scene, settingsFrom(job.request.params), 1, "");
+    SceneScope scope(scene);
+    ASSERT_EQ(scene.frame.lightSampling, shader::kRisSolidAngle);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> uniform(0.0f, shader::kOneMinusEpsilon);
+    for (int k = 0; k < 2; ++k) {
+        const AreaLight& light = job.request.scene.areaLights[std::size_t(k)];
+        const shader::RisLight& rl = scene.lights[std::size_t(k)];
+        const Vec3 c = glm::dvec3(rl.centre);
+        // The exact integrals over the polygon of 1 and |y - c|^2, by quadrature over each fan triangle (v0, vi-1, vi)
+        // in barycentric coordinates (y = v0 + s e1 + s t e2 ... the Duffy map s in [0, 1], t in [0, 1]).
+        double area = 0.0, moment = 0.0;
+        for (std::size_t i = 2; i < light.vertices.size(); ++i) {
+            const Vec3 v0 = light.vertices[0], e1 = light.vertices[i - 1] - v0, e2 = light.vertices[i] - v0;
+            const double twice = glm::length(glm::cross(e1, e2));
+            area += 0.5 * twice;
+            moment += twice * tyndall::test::integrate2D(
+                                  [&](double a, double b) {
+                                      const Vec3 y = v0 + a * (1.0 - b) * e1 + a * b * e2;
+                                      return glm::dot(y - c, y - c) * a;  // the Duffy map's Jacobian a
+                                  },
+                                  0.0, 1.0, 0.0, 1.0, 1e-12, 1e-9);
+        }
+        for (const glm::vec3 x : {glm::vec3(0.1f, 2.2f, 0.05f), glm::vec3(0.0f, 1.0f, 3.0f), glm::vec3(1.5f, 2.35f, 1.2f),
+                                  glm::vec3(-1.0f, 1.1f, -0.2f), glm::vec3(-1.6f, 1.0f, -0.3f), glm::vec3(0.0f, 2.6f, 0.0f)}) {
+            const double side = glm::dot(glm::dvec3(x) - light.vertices[0], polygonNormal(light.vertices));
+            const bool visible = light.twoSided ? side != 0.0 : side > 0.0;
+            constexpr int kSamples = 1 << 16;
+            double sumArea = 0.0, sumArea2 = 0.0, sumMoment = 0.0, sumMoment2 = 0.0;
+            int zero = 0;
+            for (int n = 0; n < kSamples; ++n) {
+                float pdf;
+                const glm::vec3 y = shader::risSampleSolidAngle(rl, x, uniform(rng), glm::vec2(uniform(rng), uniform(rng)), pdf);
+                if (!(pdf > 0.0f)) {
+                    ++zero;
+                    continue;
+                }
+                // On the polygon's plane and inside it.
+                const Vec3 yd(y), normal = polygonNormal(light.vertices);
+                ASSERT_NEAR(glm::dot(yd - light.vertices[0], normal), 0.0, 1e-4);
+                for (std::size_t i = 0; i < light.vertices.size(); ++i) {
+                    const Vec3 a = light.vertices[i], b = light.vertices[(i + 1) % light.vertices.size()];
+                    ASSERT_GE(glm::dot(glm::cross(b - a, yd - a), normal), -1e-4);
+                }
+                const double w = 1.0 / pdf, m = glm::dot(yd - c, yd - c) / pdf;
+                sumArea += w, sumArea2 += w * w, sumMoment += m, sumMoment2 += m * m;
+            }
+            if (!visible) {
+                EXPECT_EQ(zero, kSamples) << "light " << k << " behind";
+                continue;
+            }
+            EXPECT_EQ(zero, 0) << "light " << k;
+            auto check = [&](double sum, double sum2, double exact, const char* what) {
+                const double mean = sum / kSamples, se = std::sqrt(std::max(sum2 / kSamples - mean * mean, 0.0) / kSamples);
+                EXPECT_NEAR(mean, exact, 4.0 * se + 1e-4 * exact)
+                    << what << " of light " << k << " from (" << x.x << ", " << x.y << ", " << x.z << ")";
+            };
+            check(sumArea, sumArea2, area, "area");
+            check(sumMoment, sumMoment2, moment, "second moment");
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
@@ -189,25 +263,29 @@ std::vector<std::string> onCpu(const std::vector<std::string>& views) {
 }
 
 // 32 x 32 pixels: the box of fog, the quad light, the plate's shadow shaft, the diffuse ground and the GGX ball; then
-// two lights (one a two-sided pentagon), equiangular distances, and an infinite chromatic haze. The shaft at the
-// default M = 32, the others at M = 8 (unbiased for any M; cheaper), each at 512 spp against the reference's single
-// scattering at 1024 spp.
+// two lights (one a two-sided pentagon), equiangular distances, an infinite chromatic haze, and a hexagonal prism
+// (a convex polyhedron, chromatic, back-scattering) with both lights, the side light inside it. The shaft at the
+// default M = 32, the others at M = 8 (unbiased for any M; cheaper), each at 256 spp against the reference's single
+// scattering at 1024 spp, with light points sampled in the solid angle (the default); then uniform area sampling.
+// TYNDALL_TEST_SEED changes the seeds (default 3; 3, 4 and 5 pass).
 TEST(VolumeRisAgainstReference, MatchesWithinNoise) {
-    const std::vector<std::string> views = {"shaft", "equiangular", "two lights", "haze", "unshadowed"};
+    const std::vector<std::string> views = {"shaft", "equiangular", "two lights", "haze", "prism", "unshadowed"};
     std::vector<std::string> overrides = onCpu(views);
-    for (const char* v : {"equiangular", "two lights", "haze", "unshadowed"})
+    for (const char* v : {"equiangular", "two lights", "haze", "prism", "unshadowed"})
         overrides.push_back(std::string("views[") + v + "].parameters.candidates=8");
     const Project project = loadShaft(32, 32, overrides);
-    for (const std::string& view : {std::string("shaft"), std::string("two lights"), std::string("haze")}) {
+    const std::uint64_t seed = std::getenv("TYNDALL_TEST_SEED") ? std::stoull(std::getenv("TYNDALL_TEST_SEED")) : 3;
+    for (const std::string& view :
+         {std::string("shaft"), std::string("two lights"), std::string("haze"), std::string("prism")}) {
         JobOptions options;
         options.spp = 1024;
-        options.seed = 7;
+        options.seed = seed + 4;
         RenderJob job = makeReferenceJob(project, kProject, view, options);
         const RenderResult reference = runJob(job);
         std::vector<std::string> compared = {view};
         if (view == "shaft") compared.push_back("equiangular");
         for (const std::string& v : compared) {
-            const RenderResult image = renderView(project, v, 512, 3);
+            const RenderResult image = renderView(project, v, 256, seed);
             EXPECT_EQ(image.image.metadata.at("technique"), "volume-ris");
             const Comparison c = compare(image, reference);
             std::printf("%-12s relMSE %.3g, bound %.3g (%.1f s; reference %.1f s)\n", v.c_str(), c.relMSE, c.bound,
@@ -218,11 +296,33 @@ TEST(VolumeRisAgainstReference, MatchesWithinNoise) {
         if (view == "shaft") {
             // Without the shadow ray the plate's shadow in the fog and on the ground is missing: the same test must see
             // it, by a margin.
-            const RenderResult unshadowed = renderView(project, "unshadowed", 512, 3);
+            const RenderResult unshadowed = renderView(project, "unshadowed", 256, seed);
             const Comparison c = compare(unshadowed, reference);
             std::printf("%-12s relMSE %.3g, bound %.3g\n", "unshadowed", c.relMSE, c.bound);
             EXPECT_GT(c.relMSE, 3.0 * c.bound);
         }
+    }
+
+    // Uniform area sampling of the light point. Where camera rays pass close to a light inside the medium its weights
+    // G / p ~ 1 / r^2 are not square-integrable (infinite variance): the variance channels of a finite render cannot
+    // bound its error there (measured: 1.2 x the bound at one seed in three). With the fog's top 0.4 m below the light
+    // the weights are bounded and the test applies.
+    std::vector<std::string> below = onCpu({"shaft", "equiangular"});
+    for (const char* v : {"shaft", "equiangular"})
+        below.push_back(std::string("views[") + v + "].parameters.lightSampling=area");
+    below.push_back("media[fog].box.centre=[0.0,1.0,0.0]");
+    below.push_back("media[fog].box.size=[3.0,2.0,3.0]");
+    const Project areaProject = loadShaft(32, 32, below);
+    JobOptions options;
+    options.spp = 1024;
+    options.seed = seed + 4;
+    RenderJob job = makeReferenceJob(areaProject, kProject, "shaft", options);
+    const RenderResult reference = runJob(job);
+    for (const char* v : {"shaft", "equiangular"}) {
+        const RenderResult image = renderView(areaProject, v, 256, seed);
+        const Comparison c = compare(image, reference);
+        std::printf("%-12s area sampling, fog below the light: relMSE %.3g, bound %.3g\n", v, c.relMSE, c.bound);
+        EXPECT_LE(c.relMSE, c.bound) << v << " with area sampling";
     }
 }
 
@@ -293,19 +393,30 @@ TEST(VolumeRisTechnique, RefusesWhatItCannotRender) {
 
 using VolumeRisGpu = tyndall::test::TechniqueGpuTest;
 
-// The same samples on both paths: the shared code in float, so the images agree to float roundoff, except where the
-// two devices' exp/log differ in the last bits and a reservoir's choice (u * sum < w) or a grazing shadow ray flips:
-// such a pixel gets another valid sample. Bound: 98 % of the pixels within 1e-4 relative, and the mean of the
-// relative differences below 1e-3. The variants: a box (planes), two lights, equiangular distances, an infinite
-// chromatic medium, and no meshes.
+// The same samples on both paths, the shared code in float. Solid-angle sampling (the default) goes through acos,
+// atan, sin and cos in Arvo's sampler, which Vulkan lets a device compute with far less precision than glibc (GLSL.std.450
+// allows errors around 2^-11 for sin and cos): each candidate's light point moves by ~1e-4 relative, and the pixels differ
+// by that much (measured: median 1e-4, 99th percentile 2e-3 .. 4e-3). Bound for those variants: 98 % of the pixels
+// within 5e-3 relative and a mean relative difference <= 2e-3. With uniform area sampling (no such functions) the two
+// agree to float roundoff: 98 % of the pixels within 1e-4 and the mean <= 1e-3. In both, a pixel may differ a lot where
+// a reservoir's choice (u * sum < w) or a grazing shadow ray flips (another valid sample; measured max 0.5 in one
+// pixel). The variants: a box (planes), two lights, equiangular distances, an infinite chromatic medium, no meshes, a
+// polyhedron (8 planes), unshadowed; the first three also with area sampling.
 TEST_F(VolumeRisGpu, GpuAgreesWithCpu) {
     struct Variant {
         const char* view;
         std::vector<std::string> overrides;
     };
-    const std::vector<Variant> variants = {{"shaft", {}},        {"two lights", {}}, {"equiangular", {}},
-                                           {"haze", {}},         {"shaft", {"meshes=[]"}},
-                                           {"unshadowed", {}}};
+    const std::vector<Variant> variants = {{"shaft", {}},
+                                           {"two lights", {}},
+                                           {"equiangular", {}},
+                                           {"haze", {}},
+                                           {"shaft", {"meshes=[]"}},
+                                           {"prism", {}},
+                                           {"unshadowed", {}},
+                                           {"shaft", {"views[shaft].parameters.lightSampling=area"}},
+                                           {"two lights", {"views[two lights].parameters.lightSampling=area"}},
+                                           {"equiangular", {"views[equiangular].parameters.lightSampling=area"}}};
     for (const Variant& variant : variants) {
         const std::string device = std::string("views[") + variant.view + "].parameters.device=";
         std::vector<std::string> gpuOverrides = variant.overrides, cpuOverrides = variant.overrides;
@@ -316,24 +427,33 @@ TEST_F(VolumeRisGpu, GpuAgreesWithCpu) {
         const RenderResult g = renderView(gpuProject, variant.view, 4, 9);
         const RenderResult c = renderView(cpuProject, variant.view, 4, 9);
         EXPECT_NE(g.image.metadata.at("device"), "cpu");
+        const bool area = !variant.overrides.empty() && variant.overrides[0].find("=area") != std::string::npos;
+        const double closeTo = area ? 1e-4 : 5e-3, meanBound = area ? 1e-3 : 2e-3;
         int close = 0;
         double meanRelative = 0.0;
+        std::vector<double> worstPerPixel;
         for (int y = 0; y < 32; ++y)
             for (int x = 0; x < 32; ++x) {
                 bool same = true;
+                double worst = 0.0;
                 for (int ch = 0; ch < 3; ++ch) {
                     const double d = std::abs(g.image.at(x, y, ch) - c.image.at(x, y, ch)) /
                                      std::max(1e-3f, std::abs(c.image.at(x, y, ch)));
-                    same &= d <= 1e-4;
+                    same &= d <= closeTo;
                     meanRelative += d / (3.0 * 32 * 32);
+                    worst = std::max(worst, d);
                 }
+                worstPerPixel.push_back(worst);
                 close += same;
             }
         const std::string label = std::string(variant.view) + (variant.overrides.empty() ? "" : " " + variant.overrides[0]);
-        std::printf("%-20s %d of 1024 pixels within 1e-4, mean relative difference %.3g\n", label.c_str(), close,
-                    meanRelative);
+        std::sort(worstPerPixel.begin(), worstPerPixel.end());
+        std::printf("%-20s %d of 1024 pixels within %.0e, mean relative difference %.3g, percentiles 50 %.2g 90 %.2g "
+                    "99 %.2g max %.2g\n",
+                    label.c_str(), close, closeTo, meanRelative, worstPerPixel[512], worstPerPixel[921], worstPerPixel[1013],
+                    worstPerPixel[1023]);
         EXPECT_GE(close, int(0.98 * 32 * 32)) << label;
-        EXPECT_LE(meanRelative, 1e-3) << label;
+        EXPECT_LE(meanRelative, meanBound) << label;
     }
 }
 
