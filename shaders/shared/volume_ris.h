@@ -251,30 +251,34 @@ TY_FUNC vec3 risSampleSolidAngle(TY_IN(RisLight) l, TY_IN(vec3) x, float v, TY_I
     vec3 v0 = vec3(risVertex(l.vertexFirst));
     float side = dot(x - v0, l.normal);
     if (side == 0.0f || (l.twoSided == 0 && side < 0.0f)) return v0;
+    // The directions to the vertices and the fan's solid angles, once (arrays with a constant bound: registers on the
+    // GPU where TY_RIS_VERTICES is small).
+    vec3 dirs[kRisVertexLoop];
+    float omegas[kRisVertexLoop];
     vec3 a = normalize(v0 - x);
+    dirs[0] = a;
+    omegas[0] = 0.0f;
+    omegas[1] = 0.0f;
     float total = 0.0f;
-    for (int k = 2; k < kRisVertexLoop; ++k) {
+    for (int k = 1; k < kRisVertexLoop; ++k) {
         if (k >= l.vertexCount) break;
-        vec3 b = normalize(vec3(risVertex(l.vertexFirst + k - 1)) - x);
-        vec3 c = normalize(vec3(risVertex(l.vertexFirst + k)) - x);
-        total += sphericalTriangleSolidAngle(a, b, c);
+        dirs[k] = normalize(vec3(risVertex(l.vertexFirst + k)) - x);
+        omegas[k] = k >= 2 ? sphericalTriangleSolidAngle(a, dirs[k - 1], dirs[k]) : 0.0f;
+        total += omegas[k];
     }
     if (!(total > 1e-9f)) return v0;
-    // The triangle whose share of the total holds v, and v rescaled within it.
+    // The triangle whose share of the total holds v.
     float target = v * total, below = 0.0f;
     vec3 cb = a, cc = a;
     bool found = false;
     for (int k = 2; k < kRisVertexLoop; ++k) {
         if (found || k >= l.vertexCount) break;
-        vec3 b = normalize(vec3(risVertex(l.vertexFirst + k - 1)) - x);
-        vec3 c = normalize(vec3(risVertex(l.vertexFirst + k)) - x);
-        float omega = sphericalTriangleSolidAngle(a, b, c);
-        if (target < below + omega || k == l.vertexCount - 1) {
+        if (target < below + omegas[k] || k == l.vertexCount - 1) {
             found = true;
-            cb = b;
-            cc = c;
+            cb = dirs[k - 1];
+            cc = dirs[k];
         } else {
-            below += omega;
+            below += omegas[k];
         }
     }
     float omega;
