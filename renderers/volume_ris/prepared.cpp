@@ -9,6 +9,10 @@
 
 namespace tyndall::volume_ris {
 
+// The std430 sizes the shader reads (shared/volume_ris.h).
+static_assert(sizeof(shader::RisFrame) == 276);
+static_assert(sizeof(shader::RisLight) == 64);
+
 namespace {
 
 thread_local const PreparedScene* gBound = nullptr;

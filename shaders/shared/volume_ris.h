@@ -67,7 +67,7 @@ struct RisLight {
     float pad0;
 };
 
-// Everything else a frame needs, 272 bytes.
+// Everything else a frame needs, 276 bytes (the phase parameters have 4-byte members only).
 struct RisFrame {
     CameraParams camera;
     vec3 sigmaS;  // 1/m
