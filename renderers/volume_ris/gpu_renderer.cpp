@@ -91,7 +91,7 @@ void GpuRenderer::begin(const PreparedScene& scene, int width, int height) {
     pixels_ = std::uint32_t(width) * std::uint32_t(height);
     width_ = std::uint32_t(width);
     // Kept from render to render at the same size and zeroed in place (see wvds/gpu_renderer.cpp).
-    const VkDeviceSize accumulatorBytes = VkDeviceSize(pixels_) * 2 * sizeof(glm::vec4);
+    const VkDeviceSize accumulatorBytes = VkDeviceSize(pixels_) * 4 * sizeof(glm::vec4);
     if (!accumulators_ || accumulators_->size() != accumulatorBytes)
         accumulators_ = std::make_unique<gpu::Buffer>(ctx, accumulatorBytes);
     accumulators_->fill(0u);
@@ -129,7 +129,7 @@ void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const Rende
 }
 
 const std::vector<glm::vec4>& GpuRenderer::readAccumulators() {
-    accumulators_->download(readback_, std::size_t(pixels_) * 2);
+    accumulators_->download(readback_, std::size_t(pixels_) * 4);
     return readback_;
 }
 

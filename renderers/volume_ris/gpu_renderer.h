@@ -1,7 +1,6 @@
 // The Volume-RIS technique on the GPU: uploads a prepared scene once, then adds camera samples to per-pixel
 // accumulators that stay on the GPU, one dispatch per sample index in slices of about 10 ms (tyndall/gpu/slicer.h), so
-// that a progressive render can be cancelled between slices and read back at every pass. As wvds/gpu_renderer.h, with
-// one vec4 per pixel and half.
+// that a progressive render can be cancelled between slices and read back at every pass. As wvds/gpu_renderer.h.
 #pragma once
 
 #include "volume_ris/prepared.h"
@@ -21,7 +20,8 @@ class GpuRenderer {
 public:
     GpuRenderer();  // on gpu::sharedContext(); throws GpuError without Vulkan
 
-    // Starts a render: uploads the scene and zeroes one vec4 accumulator per pixel and half.
+    // Starts a render: uploads the scene and zeroes the accumulators: per pixel and half, two vec4s (medium with the
+    // sample count in w, surface).
     void begin(const PreparedScene& scene, int width, int height);
     // Adds camera samples [first, end) to every pixel. Throws Cancelled between slices.
     void addSamples(std::uint32_t first, std::uint32_t end, const RenderCallbacks& callbacks);

@@ -96,7 +96,8 @@ Support VolumeRisTechnique::supports(const AreaLight& light) const {
 
 namespace {
 
-// Accumulators: per pixel and half (even, odd camera samples), the sum of the samples with w counting them.
+// Accumulators: per pixel and half (even, odd camera samples), two vec4s: the sum of the medium's samples with w
+// counting them, and the sum of the surface's.
 void addSamplesCpu(const PreparedScene& scene, int width, int height, std::vector<glm::vec4>& acc,
                    std::uint32_t first, std::uint32_t end, int threads, const RenderCallbacks& callbacks,
                    std::atomic<long>& nonFinite) {
@@ -109,14 +110,16 @@ void addSamplesCpu(const PreparedScene& scene, int width, int height, std::vecto
                 for (int x = 0; x < width; ++x) {
                     const std::size_t pixel = std::size_t(y) * width + x;
                     for (std::uint32_t s = first; s < end; ++s) {
-                        const glm::vec3 v = shader::risSample(scene.frame, x, y, s);
-                        glm::vec4& a = acc[pixel * 2 + (s & 1u)];
-                        a.w += 1.0f;
+                        const shader::RisTerms t = shader::risSample(scene.frame, x, y, s);
+                        glm::vec4* a = &acc[(pixel * 2 + (s & 1u)) * 2];
+                        a[0].w += 1.0f;
+                        const glm::vec3 v = t.medium + t.surface;
                         if (!std::isfinite(v.x + v.y + v.z)) {
                             nonFinite.fetch_add(1, std::memory_order_relaxed);
                             continue;
                         }
-                        a += glm::vec4(v, 0.0f);
+                        a[0] += glm::vec4(t.medium, 0.0f);
+                        a[1] += glm::vec4(t.surface, 0.0f);
                     }
                 }
             }
@@ -125,28 +128,37 @@ void addSamplesCpu(const PreparedScene& scene, int width, int height, std::vecto
     if (callbacks.cancel && callbacks.cancel->load()) throw Cancelled();
 }
 
-// R, G, B and the variance of each pixel's mean from its two halves, (A - B)^2 / 4, as the reference writes it.
+// R, G, B and the variance of each pixel's mean from its two halves, (A - B)^2 / 4, as the reference writes it; then
+// the medium's and the surface's parts of R, G, B (their sum), for a denoiser that filters them apart.
 Image resolve(const std::vector<glm::vec4>& acc, int width, int height, long& nonFinitePixels) {
-    Image image(width, height, {"R", "G", "B", "variance.R", "variance.G", "variance.B"});
+    Image image(width, height,
+                {"R", "G", "B", "variance.R", "variance.G", "variance.B", "medium.R", "medium.G", "medium.B",
+                 "surface.R", "surface.G", "surface.B"});
     long bad = 0;
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             const std::size_t pixel = std::size_t(y) * width + x;
-            const glm::vec4 a0 = acc[pixel * 2], a1 = acc[pixel * 2 + 1];
-            const float n = a0.w + a1.w;
-            glm::vec3 v = n > 0.0f ? glm::vec3(a0 + a1) / n : glm::vec3(0.0f);
+            const glm::vec4* h0 = &acc[pixel * 4];
+            const glm::vec4* h1 = &acc[pixel * 4 + 2];
+            const float n0 = h0[0].w, n1 = h1[0].w, n = n0 + n1;
+            const glm::vec3 sum0 = glm::vec3(h0[0]) + glm::vec3(h0[1]), sum1 = glm::vec3(h1[0]) + glm::vec3(h1[1]);
+            glm::vec3 medium = n > 0.0f ? (glm::vec3(h0[0]) + glm::vec3(h1[0])) / n : glm::vec3(0.0f);
+            glm::vec3 surface = n > 0.0f ? (glm::vec3(h0[1]) + glm::vec3(h1[1])) / n : glm::vec3(0.0f);
+            glm::vec3 v = medium + surface;
             glm::vec3 variance(0.0f);
-            if (a0.w > 0.0f && a1.w > 0.0f) {
-                const glm::vec3 d = glm::vec3(a0) / a0.w - glm::vec3(a1) / a1.w;
+            if (n0 > 0.0f && n1 > 0.0f) {
+                const glm::vec3 d = sum0 / n0 - sum1 / n1;
                 variance = d * d * 0.25f;
             }
             if (!std::isfinite(v.x + v.y + v.z + variance.x + variance.y + variance.z)) {
                 ++bad;
-                v = variance = glm::vec3(0.0f);
+                v = variance = medium = surface = glm::vec3(0.0f);
             }
             for (int c = 0; c < 3; ++c) {
                 image.at(x, y, c) = v[c];
                 image.at(x, y, 3 + c) = variance[c];
+                image.at(x, y, 6 + c) = medium[c];
+                image.at(x, y, 9 + c) = surface[c];
             }
         }
     nonFinitePixels = bad;
@@ -191,7 +203,7 @@ RenderResult VolumeRisTechnique::render(const RenderRequest& request, const Rend
         if (!gpu_) gpu_ = std::make_unique<volume_ris::GpuRenderer>();
         gpu_->begin(scene, width, height);
     } else {
-        acc.assign(std::size_t(width) * height * 2, glm::vec4(0.0f));
+        acc.assign(std::size_t(width) * height * 4, glm::vec4(0.0f));
     }
 
     // Passes of 1, 1, 2, 4, ... camera samples: an image at every power of two, until spp or the time limit.

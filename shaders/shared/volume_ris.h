@@ -85,6 +85,13 @@ struct RisFrame {
     PhaseParams phase;
 };
 
+// What one camera sample adds to its pixel: the medium's single scattering and the surface's direct light, apart so
+// that a denoiser can filter them separately (as the LTSD paper does for Volume-RIS, Sec. 8).
+struct RisTerms {
+    vec3 medium;
+    vec3 surface;
+};
+
 // Supplied by the includer (see the top of the file).
 vec4 risPlane(int i);
 RisLight risLight(int i);
@@ -367,7 +374,7 @@ TY_FUNC vec3 risMediumCandidate(TY_IN(RisFrame) f, TY_IN(vec3) o, TY_IN(vec3) d,
 }
 
 // Camera sample `index` of pixel (px, py); it belongs to the half index & 1 of the pixel's samples.
-TY_FUNC vec3 risSample(TY_IN(RisFrame) f, int px, int py, uint index) {
+TY_FUNC RisTerms risSample(TY_IN(RisFrame) f, int px, int py, uint index) {
     // Even and odd camera samples come from two independently scrambled sequences, so that the two halves of a pixel's
     // samples are independent and their difference estimates the variance (as in the reference).
     uint pixelSeed = hashCombine(hashCombine(hashCombine(f.seed, uint(px)), uint(py)), index & 1u);
@@ -385,7 +392,9 @@ TY_FUNC vec3 risSample(TY_IN(RisFrame) f, int px, int py, uint index) {
     float tEnd = hasHit ? hit.t : kInfinity;
 #endif
     int M = clamp(f.candidates, 1, kRisMaxCandidates);
-    vec3 result = vec3(0.0f);
+    RisTerms result;
+    result.medium = vec3(0.0f);
+    result.surface = vec3(0.0f);
 
     // The medium: [tIn, tOut] of the ray inside it, and the part in front of the surface.
     float tIn = 0.0f, tOut = kInfinity;
@@ -418,7 +427,7 @@ TY_FUNC vec3 risSample(TY_IN(RisFrame) f, int px, int py, uint index) {
         }
         // W = (1 / p_hat(y)) (1 / M) sum w_i; the visibility only multiplies the chosen sample.
         if (wSum > 0.0f && chosenTarget > 0.0f && !risOccluded(f, chosenX, chosenL, chosenR))
-            result += chosenF * (wSum / (float(M) * chosenTarget));
+            result.medium = chosenF * (wSum / (float(M) * chosenTarget));
     }
 
 #ifndef TY_RIS_NO_SURFACES
@@ -463,7 +472,7 @@ TY_FUNC vec3 risSample(TY_IN(RisFrame) f, int px, int py, uint index) {
         if (wSum > 0.0f && chosenTarget > 0.0f &&
             !risOccluded(f, xs + f.rayOffset * frame.ng, chosenL, chosenR)) {
             float cameraDepth = inMedium ? max(min(tOut, hit.t) - tIn, 0.0f) : 0.0f;
-            result += chosenF * risTransmittance(f, cameraDepth) * (wSum / (float(M) * chosenTarget));
+            result.surface = chosenF * risTransmittance(f, cameraDepth) * (wSum / (float(M) * chosenTarget));
         }
     }
 #endif

@@ -29,7 +29,8 @@ layout(std430, set = 0, binding = 4) readonly buffer Lights { RisLight lights[];
 layout(std430, set = 0, binding = 5) readonly buffer Vertices { vec4 vertices[]; };
 layout(std430, set = 0, binding = 6) readonly buffer SurfaceTriangles { SurfaceTriangle surfaceTriangles[]; };
 layout(std430, set = 0, binding = 7) readonly buffer Materials { MaterialParams materials[]; };
-// Per pixel and half (even and odd samples, for the variance estimate): the sum of the samples, w counting them.
+// Per pixel and half (even and odd samples, for the variance estimate): two vec4s, the sums of the medium's samples
+// (w counting them) and of the surface's.
 layout(std430, set = 0, binding = 8) buffer Accumulators { vec4 accumulators[]; };
 
 layout(push_constant) uniform Push {
@@ -86,8 +87,13 @@ void main() {
     uint pixel = (band * push.bandGroups + groupInBand) * 64u + (item & 63u);
     if (pixel >= push.pixels) return;
     int px = int(pixel % push.width), py = int(pixel / push.width);
-    vec3 value = risSample(sceneFrame, px, py, push.index);
-    if (any(isnan(value)) || any(isinf(value))) value = vec3(0.0);  // as the CPU path, which also counts them
-    uint slot = pixel * 2u + (push.index & 1u);
-    accumulators[slot] += vec4(value, 1.0);
+    RisTerms terms = risSample(sceneFrame, px, py, push.index);
+    vec3 value = terms.medium + terms.surface;
+    if (any(isnan(value)) || any(isinf(value))) {  // as the CPU path, which also counts them
+        terms.medium = vec3(0.0);
+        terms.surface = vec3(0.0);
+    }
+    uint slot = (pixel * 2u + (push.index & 1u)) * 2u;
+    accumulators[slot] += vec4(terms.medium, 1.0);
+    accumulators[slot + 1u] += vec4(terms.surface, 0.0);
 }

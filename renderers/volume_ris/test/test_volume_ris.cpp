@@ -339,6 +339,22 @@ TEST(VolumeRisTechnique, RendersProgressivelyAndCancels) {
     EXPECT_EQ(result.spp, 16);
     EXPECT_EQ(passes, (std::vector<int>{1, 2, 4, 8}));
     EXPECT_EQ(result.image.metadata.at("nonFiniteSamples"), "0");
+    // The medium's and the surface's parts add up to R, G, B, and each has light somewhere.
+    const Image& image = result.image;
+    const int medium = image.channelIndex("medium.R"), surface = image.channelIndex("surface.R");
+    ASSERT_GE(medium, 0);
+    ASSERT_GE(surface, 0);
+    double mediumSum = 0.0, surfaceSum = 0.0;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float m = image.at(x, y, medium + c), su = image.at(x, y, surface + c);
+                EXPECT_NEAR(image.at(x, y, c), m + su, 1e-6f * (std::abs(image.at(x, y, c)) + 1e-6f));
+                mediumSum += m;
+                surfaceSum += su;
+            }
+    EXPECT_GT(mediumSum, 0.0);
+    EXPECT_GT(surfaceSum, 0.0);
 
     std::atomic<bool> cancel{true};
     RenderCallbacks cancelled;
@@ -396,7 +412,8 @@ using VolumeRisGpu = tyndall::test::TechniqueGpuTest;
 // The same samples on both paths, the shared code in float. Solid-angle sampling (the default) goes through acos,
 // atan, sin and cos in Arvo's sampler, which Vulkan lets a device compute with far less precision than glibc (GLSL.std.450
 // allows errors around 2^-11 for sin and cos): each candidate's light point moves by ~1e-4 relative, and the pixels differ
-// by that much (measured: median 1e-4, 99th percentile 2e-3 .. 4e-3). Bound for those variants: 98 % of the pixels
+// by that much (measured over R, G, B and the medium and surface parts: median 1e-4, 99th percentile 2e-3 .. 5e-3).
+// Bound for those variants: 98 % of the pixels
 // within 5e-3 relative and a mean relative difference <= 2e-3. With uniform area sampling (no such functions) the two
 // agree to float roundoff: 98 % of the pixels within 1e-4 and the mean <= 1e-3. In both, a pixel may differ a lot where
 // a reservoir's choice (u * sum < w) or a grazing shadow ray flips (another valid sample; measured max 0.5 in one
@@ -436,11 +453,11 @@ TEST_F(VolumeRisGpu, GpuAgreesWithCpu) {
             for (int x = 0; x < 32; ++x) {
                 bool same = true;
                 double worst = 0.0;
-                for (int ch = 0; ch < 3; ++ch) {
+                for (const int ch : {0, 1, 2, 6, 7, 8, 9, 10, 11}) {  // R, G, B, medium.*, surface.*
                     const double d = std::abs(g.image.at(x, y, ch) - c.image.at(x, y, ch)) /
                                      std::max(1e-3f, std::abs(c.image.at(x, y, ch)));
                     same &= d <= closeTo;
-                    meanRelative += d / (3.0 * 32 * 32);
+                    meanRelative += d / (9.0 * 32 * 32);
                     worst = std::max(worst, d);
                 }
                 worstPerPixel.push_back(worst);
