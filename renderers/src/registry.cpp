@@ -5,6 +5,7 @@
 
 #include "ltsd/ltsd.h"
 #include "pegoraro/pegoraro.h"
+#include "volume_ris/volume_ris.h"
 #include "wvds/wvds.h"
 #include "reference/reference.h"
 
@@ -23,6 +24,7 @@ struct Registry {
         factories["pegoraro"] = [] { return std::make_unique<PegoraroTechnique>(); };
         factories["ltsd"] = [] { return std::make_unique<LtsdTechnique>(); };
         factories["wvds"] = [] { return std::make_unique<WvdsTechnique>(); };
+        factories["volume-ris"] = [] { return std::make_unique<VolumeRisTechnique>(); };
     }
 };
 
