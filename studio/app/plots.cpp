@@ -41,7 +41,7 @@ Plot::Plot(const QString& name, QWidget* parent) : QWidget(parent), name_(name) 
 
 QString Plot::caption() const { return caption_->text(); }
 
-QString Plot::title() const { return title_ ? title_->text() : QString(); }
+QString Plot::title() const { return title_ ? title_->text().replace('\n', ' ') : QString(); }
 
 void Plot::setTitle(const QString& text) {
     if (!title_) {
@@ -49,7 +49,21 @@ void Plot::setTitle(const QString& text) {
         title_ = new QCPTextElement(plot_, text, QFont(font().family(), 10, QFont::Bold));
         plot_->plotLayout()->addElement(0, 0, title_);
     }
-    title_->setText(text);
+    // QCPTextElement does not wrap: lines of at most ~90 characters, broken at spaces (a loader's error names a path).
+    QString wrapped;
+    int line = 0;
+    for (const QString& word : text.split(' ')) {
+        if (line > 0 && line + word.size() > 90) {
+            wrapped += '\n';
+            line = 0;
+        } else if (line > 0) {
+            wrapped += ' ';
+            ++line;
+        }
+        wrapped += word;
+        line += int(word.size());
+    }
+    title_->setText(wrapped);
 }
 
 void Plot::legendOutside() {
@@ -358,6 +372,8 @@ void LtsdPolarPlot::redraw() {
         extent_ = 0.0;
         setTitle(fit_.message);
         caption_->setText(fit_.message);
+        plot_->legend->setVisible(false);
+        plot_->xAxis->setLabel("");
         plot_->xAxis->setRange(-1.0, 1.0);
         plot_->yAxis->setRange(-1.0, 1.0);
         plot_->replot(QCustomPlot::rpQueuedReplot);
@@ -365,6 +381,7 @@ void LtsdPolarPlot::redraw() {
     }
     const LtsdTable& table = *fit_.table;
     const double g = fit_.g;
+    plot_->legend->setVisible(true);
     const std::vector<LtsdPolarPoint> points = ltsdPolarCurve(table, g, kSamples);
 
     // The log scale's floor: a decade under HG's smallest value (HG is positive everywhere), at most six decades under
@@ -521,9 +538,11 @@ void LtsdErrorPlot::showFit(const LtsdFit& fit) {
         const QString message = fit.message.isEmpty() ? QString("No medium selected.") : fit.message;
         setTitle(message);
         caption_->setText(message);
+        plot_->legend->setVisible(false);
         plot_->replot(QCustomPlot::rpQueuedReplot);
         return;
     }
+    plot_->legend->setVisible(true);
     const LtsdTable& table = *fit.table;
     const std::vector<LtsdFitError>& curve = *fit.errorCurve;
     const char* names[] = {"TV, upper hemisphere", "TV, lower hemisphere", "error bound"};

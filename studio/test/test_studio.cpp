@@ -1293,9 +1293,22 @@ private slots:
         }
         QVERIFY(horizonThere);
 
+        // What a scene edit costs the plots (reported, not asserted: no timed tests).
+        QElapsedTimer timer;
+        timer.start();
+        for (int i = 0; i < 10; ++i) {
+            polar->showFit(polar->fit());
+            window_->ltsdErrorPlot()->showFit(polar->fit());
+        }
+        qInfo("LTSD plots: %.2f ms per update of both (data and items; the replot is queued)", timer.nsecsElapsed() / 1e7);
+
         // Linear radius: the radius is the value.
         polar->setLogRadius(false);  // the curves are drawn again: new QCPCurves
         QVERIFY(std::abs(radius(*polar->phaseCurve()->data()->at(0)) - curve[0].phase) < 1e-12);
+        const QCPCurveData forward = *polar->phaseCurve()->data()->at(LtsdPolarPlot::kSamples / 2);  // psi ~ pi: HG's peak
+        QVERIFY(forward.value < 0.0);
+        const QImage linear = drawn(polar);  // first: drawing settles the axes' ranges that pixelOf reads
+        QVERIFY(colourNear(linear, pixelOf(polar->plot(), forward.key, forward.value), LtsdPolarPlot::phaseColour(), 2));
         polar->setLogRadius(true);
     }
 
@@ -1331,6 +1344,13 @@ private slots:
         QCOMPARE(polar->title(), polar->caption());  // in the exports, too
         QVERIFY(!polar->phaseCurve());
         QCOMPARE(polar->plot()->plottableCount(), 0);
+        const QImage shown = drawn(polar);  // no curve on screen: not a stale one, nor one of another medium
+        int curvePixels = 0;
+        for (int y = 0; y < shown.height(); y += 2)
+            for (int x = 0; x < shown.width(); x += 2)
+                curvePixels += colourNear(shown, QPointF(x, y), LtsdPolarPlot::phaseColour(), 0) ||
+                               colourNear(shown, QPointF(x, y), LtsdPolarPlot::fitColour(), 0);
+        QCOMPARE(curvePixels, 0);
         QVERIFY(window_->ltsdErrorPlot()->caption().contains("No LTSD table for rayleigh"));
         QVERIFY(!window_->ltsdErrorPlot()->marker());
         window_->session().undoStack()->undo();
