@@ -169,7 +169,7 @@ int plot(const PlotArgs& args) {
         if (out.extension() != ".csv")
             throw InputError(InputLocation{"", 0, 0, "--out"},
                              "must end in .csv, got '" + args.out +
-                                 "' (the studio exports the drawn plots as PNG and SVG: the plot's tab, or File > Export)");
+                                 "' (the studio's File > Export writes the drawn plots as PNG and SVG)");
         if (args.points < 0 || args.points == 1 || args.points > 1000000)
             throw InputError(InputLocation{"", 0, 0, "--points"}, "must be 0 (the default) or in [2, 1000000]");
         if (args.plot == "ltsd-polar" && !(args.g > -1.0 && args.g < 1.0))
