@@ -9,10 +9,12 @@
 #include <sys/wait.h>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <numbers>
 
 namespace fs = std::filesystem;
 
@@ -430,6 +432,73 @@ TEST(Cli, TablesPrintsProvenanceAndEvaluatesAPolygon) {
         CliRun r = tyndall(c.args);
         EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.output;
         EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
+    }
+}
+
+// `tyndall plot ltsd-polar` writes HG against its LTSD fit as CSV (the studio's polar plot's data): HG's values are
+// HG's formula at mu = -cos psi, each point names the fit's hemisphere, and the fit jumps at the horizon; `ltsd-error`
+// writes the fit's error over g. Other outputs and bad arguments are refused with exit code 2 and a reason.
+TEST(Cli, PlotWritesTheLtsdPlotsAsCsv) {
+    const fs::path dir = scratch("plot");
+    auto readLines = [](const fs::path& path) {
+        std::vector<std::string> lines;
+        std::ifstream file(path);
+        for (std::string line; std::getline(file, line);)
+            lines.push_back(line);
+        return lines;
+    };
+    const fs::path polar = dir / "polar.csv";
+    CliRun r = tyndall("plot ltsd-polar --g 0.6 --points 360 -o '" + polar.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const std::vector<std::string> lines = readLines(polar);
+    ASSERT_EQ(lines.size(), 361u);
+    EXPECT_EQ(lines[0], "psi,phase,fitted,hemisphere");
+    int upper = 0;
+    double beforeHorizon = 0.0, afterHorizon = 0.0;  // the fit on either side of psi = pi / 2
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+        double psi = 0.0, phase = 0.0, fitted = 0.0;
+        char hemisphere[16] = {};
+        ASSERT_EQ(std::sscanf(lines[i].c_str(), "%lf,%lf,%lf,%15s", &psi, &phase, &fitted, hemisphere), 4) << lines[i];
+        const double g = 0.6, mu = -std::cos(psi), d = 1.0 + g * g - 2.0 * g * mu;
+        EXPECT_NEAR(phase, (1.0 - g * g) / (4.0 * std::numbers::pi * d * std::sqrt(d)), 1e-7 * phase) << lines[i];
+        EXPECT_TRUE(std::isfinite(fitted) && fitted >= 0.0) << lines[i];
+        EXPECT_EQ(std::string(hemisphere), std::cos(psi) > 0.0 ? "upper" : "lower") << lines[i];
+        upper += std::cos(psi) > 0.0;
+        if (i == 90) beforeHorizon = fitted;  // psi = 2 pi 89.5 / 360: just above the horizon (upper)
+        if (i == 91) afterHorizon = fitted;
+    }
+    EXPECT_EQ(upper, 180);
+    EXPECT_GT(std::abs(beforeHorizon - afterHorizon), 0.2 * std::max(beforeHorizon, afterHorizon))
+        << beforeHorizon << " " << afterHorizon;
+
+    const fs::path error = dir / "error.csv";
+    r = tyndall("plot ltsd-error -o '" + error.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const std::vector<std::string> errorLines = readLines(error);
+    ASSERT_EQ(errorLines.size(), 102u);
+    EXPECT_EQ(errorLines[0], "g,tvUpper,tvLower,bound");
+    double g0 = 0.0, tvUpper = 0.0, tvLower = 0.0, bound = 0.0;
+    ASSERT_EQ(std::sscanf(errorLines[51].c_str(), "%lf,%lf,%lf,%lf", &g0, &tvUpper, &tvLower, &bound), 4);
+    EXPECT_NEAR(g0, 0.0, 1e-9);
+    EXPECT_GT(bound, 0.0);
+    EXPECT_LE(bound, 0.5 * (tvUpper + tvLower));
+
+    struct Case {
+        std::string args, expected;
+    };
+    const Case cases[] = {
+        {"plot ltsd-polar --g 0.5 -o '" + (dir / "a.png").string() + "'", "must end in .csv"},
+        {"plot ltsd-polar --g 1.5 -o '" + (dir / "a.csv").string() + "'", "--g"},
+        {"plot ltsd-polar --g nan -o '" + (dir / "a.csv").string() + "'", "finite"},
+        {"plot ltsd-error --points 1 -o '" + (dir / "a.csv").string() + "'", "--points"},
+        {"plot ltsd-error --tables '" + scratch("no-tables-plot").string() + "' -o '" + (dir / "a.csv").string() + "'",
+         "no-tables-plot/hg.ltsd: cannot open"},
+    };
+    for (const Case& c : cases) {
+        CliRun bad = tyndall(c.args);
+        EXPECT_EQ(bad.exitCode, 2) << c.args << "\n" << bad.output;
+        EXPECT_NE(bad.output.find(c.expected), std::string::npos) << c.args << "\n" << bad.output;
+        EXPECT_FALSE(fs::exists(dir / "a.csv")) << c.args;
     }
 }
 

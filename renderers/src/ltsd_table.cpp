@@ -2,6 +2,7 @@
 
 #include "tyndall/error.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -237,6 +238,16 @@ std::filesystem::path ltsdTablePath(const std::string& phaseType, const std::str
     return ltsdTablesDirectory(overrideDir) / (phaseType + ".ltsd");
 }
 
+std::vector<std::string> ltsdTablePhases(const std::string& overrideDir) {
+    std::vector<std::string> phases;
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(ltsdTablesDirectory(overrideDir), ec), end; !ec && it != end;
+         it.increment(ec))
+        if (it->path().extension() == ".ltsd") phases.push_back(it->path().stem().string());
+    std::sort(phases.begin(), phases.end());
+    return phases;
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Plot data
 
@@ -271,18 +282,21 @@ double ltsdTotalVariation(double g, int source, double m) {
     return sum;
 }
 
+LtsdFitError ltsdFitErrorAt(const LtsdTable& table, double g) {
+    g = std::clamp(g, -double(table.gMax), double(table.gMax));
+    const shader::LtsdEntry u = table.upper(g), l = table.lower(g);
+    LtsdFitError e;
+    e.g = g;
+    e.tvUpper = ltsdTotalVariation(g, u.source, double(u.m[0]) / double(u.m[8]));
+    e.tvLower = ltsdTotalVariation(-g, l.source, double(l.m[0]) / double(l.m[8]));
+    e.bound = 0.5 * (double(u.amplitude) * e.tvUpper + double(l.amplitude) * e.tvLower);
+    return e;
+}
+
 std::vector<LtsdFitError> ltsdFitErrorCurve(const LtsdTable& table, int points) {
     std::vector<LtsdFitError> curve;
-    for (int i = 0; i < points; ++i) {
-        const double g = -double(table.gMax) + 2.0 * double(table.gMax) * double(i) / double(points - 1);
-        const shader::LtsdEntry u = table.upper(g), l = table.lower(g);
-        LtsdFitError e;
-        e.g = g;
-        e.tvUpper = ltsdTotalVariation(g, u.source, double(u.m[0]) / double(u.m[8]));
-        e.tvLower = ltsdTotalVariation(-g, l.source, double(l.m[0]) / double(l.m[8]));
-        e.bound = 0.5 * (double(u.amplitude) * e.tvUpper + double(l.amplitude) * e.tvLower);
-        curve.push_back(e);
-    }
+    for (int i = 0; i < points; ++i)
+        curve.push_back(ltsdFitErrorAt(table, -double(table.gMax) + 2.0 * double(table.gMax) * double(i) / double(points - 1)));
     return curve;
 }
 

@@ -249,10 +249,14 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     pdf_ = new PdfPlot;
     phasePolar_ = new PhasePlot(PhasePlot::Kind::Polar);
     phaseCosine_ = new PhasePlot(PhasePlot::Kind::OverCosine);
+    ltsdPolar_ = new LtsdPolarPlot;
+    ltsdError_ = new LtsdErrorPlot;
     plots_->addPlot(convergence_);
     plots_->addPlot(pdf_);
     plots_->addPlot(phasePolar_);
     plots_->addPlot(phaseCosine_);
+    plots_->addPlot(ltsdPolar_);
+    plots_->addPlot(ltsdError_);
     plotsDock->setWidget(plots_);
     addDockWidget(Qt::BottomDockWidgetArea, plotsDock);
 
@@ -1190,6 +1194,35 @@ void MainWindow::updatePhasePlots() {
     for (const ParticleMedium& m : project.scene.particleMedia) add(m.name, m.phase);
     phasePolar_->setCurves(curves);
     phaseCosine_->setCurves(std::move(curves));
+
+    // The LTSD plots: the view's first medium (a technique such as LTSD handles one at a time).
+    LtsdFit fit;
+    const QString view = state_.current >= 0 && state_.current < int(project.views.size())
+                             ? QString::fromStdString(project.views[std::size_t(state_.current)].name)
+                             : QString();
+    if (view.isEmpty()) {
+        fit.message = "No view selected.";
+    } else if (own.empty()) {
+        fit.message = "View '" + view + "' has no medium.";
+    } else {
+        const PhaseFunction* phase = nullptr;
+        for (const HomogeneousMedium& m : project.scene.media)
+            if (m.name == own.front()) phase = &m.phase;
+        for (const ParticleMedium& m : project.scene.particleMedia)
+            if (m.name == own.front()) phase = &m.phase;
+        if (phase)
+            fit = ltsdFitOf(QString::fromStdString(own.front()), view, *phase, ltsdTables_);
+        else
+            fit.message = "View '" + view + "' names medium '" + QString::fromStdString(own.front()) +
+                          "', which the scene does not have.";
+    }
+    ltsdPolar_->showFit(fit);
+    ltsdError_->showFit(fit);
+}
+
+void MainWindow::setLtsdTablesDirectory(const QString& directory) {
+    ltsdTables_.setDirectory(directory);
+    updatePhasePlots();
 }
 
 void MainWindow::updateStatus() {

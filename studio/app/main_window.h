@@ -132,6 +132,11 @@ public:
     // The project's media's phase functions (the current view's first): polar and over cos theta.
     PhasePlot* phasePolarPlot() { return phasePolar_; }
     PhasePlot* phaseCosinePlot() { return phaseCosine_; }
+    // The selected view's (first) medium's phase function against its LTSD fit, and the fit's error over g.
+    LtsdPolarPlot* ltsdPolarPlot() { return ltsdPolar_; }
+    LtsdErrorPlot* ltsdErrorPlot() { return ltsdError_; }
+    // Where the LTSD plots read their tables ("": the default search, ltsdTablesDirectory); read again now.
+    void setLtsdTablesDirectory(const QString& directory);
 
     // The window's geometry and dock layout go to QSettings on close and come back on the next start.
     void saveLayout() const;
@@ -201,7 +206,10 @@ private:
     ConvergencePlot* convergence_ = nullptr;
     PdfPlot* pdf_ = nullptr;
     PhasePlot *phasePolar_ = nullptr, *phaseCosine_ = nullptr;
-    void updatePhasePlots();
+    LtsdPolarPlot* ltsdPolar_ = nullptr;
+    LtsdErrorPlot* ltsdError_ = nullptr;
+    LtsdTables ltsdTables_;
+    void updatePhasePlots();  // and the LTSD plots
     std::string viewsKey() const;  // the views' names and techniques: a change of them rebuilds the views
     std::string viewsKey_;
     QLabel* inspector_ = nullptr;

@@ -74,4 +74,15 @@ struct TablesEvalArgs {
 };
 int tablesEval(const TablesEvalArgs& args);
 
+// `tyndall plot ltsd-polar|ltsd-error`: the data of the studio's LTSD plots as CSV, for papers (the studio exports
+// the drawn plots as PNG and SVG).
+struct PlotArgs {
+    std::string plot;    // "ltsd-polar" or "ltsd-error"
+    std::string tables;  // folder holding the tables
+    double g = 0.0;      // ltsd-polar: HG's asymmetry, in (-1, 1)
+    int points = 0;      // samples (0: 720 over psi, 101 over g, as the studio draws them)
+    std::string out;     // .csv
+};
+int plot(const PlotArgs& args);
+
 }  // namespace tyndall::cli

@@ -113,6 +113,19 @@ int main(int argc, char** argv) {
                         "'[[0.1,0,-1],[0,0.1,-1],[-0.1,-0.1,-1]]'; convex, inside a hemisphere, at most 9")
         ->required();
 
+    PlotArgs plotArgs;
+    CLI::App* plotCmd = app.add_subcommand("plot", "the data of the studio's plots as CSV, e.g. for papers");
+    plotCmd->require_subcommand(1);
+    CLI::App* polarCmd = plotCmd->add_subcommand(
+        "ltsd-polar", "HG against its LTSD fit in a plane through omega_o (the LTSD paper's Fig. 12): psi,phase,fitted,hemisphere");
+    polarCmd->add_option("--g", plotArgs.g, "HG's asymmetry, in (-1, 1)")->required()->check(kFinite);
+    CLI::App* errorCmd = plotCmd->add_subcommand("ltsd-error", "the LTSD fit's error against g: g,tvUpper,tvLower,bound");
+    for (CLI::App* cmd : {polarCmd, errorCmd}) {
+        cmd->add_option("--out,-o", plotArgs.out, "output file (.csv)")->required();
+        cmd->add_option("--tables", plotArgs.tables, "folder holding the tables (default: installed with tyndall; or $TYNDALL_TABLES_DIR)");
+        cmd->add_option("--points", plotArgs.points, "samples (default: 720 over psi, 101 over g, as the studio draws them)");
+    }
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -129,5 +142,9 @@ int main(int argc, char** argv) {
         return tyndall::cli::tablesEval(evalArgs);
     }
     if (tablesCmd->parsed()) return tyndall::cli::tables(tablesArgs);
+    if (polarCmd->parsed() || errorCmd->parsed()) {
+        plotArgs.plot = polarCmd->parsed() ? "ltsd-polar" : "ltsd-error";
+        return tyndall::cli::plot(plotArgs);
+    }
     return kBadInput;
 }

@@ -1,5 +1,5 @@
 // `tyndall tables` and `tyndall tables eval`: the fitted LTSD tables' provenance and error summary, and a probe of the
-// fit over any spherical polygon (docs/tables.md).
+// fit over any spherical polygon (docs/tables.md); `tyndall plot ltsd-polar|ltsd-error`: the studio's LTSD plots' data.
 #include "commands.h"
 
 #include "tyndall/error.h"
@@ -9,6 +9,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 
 namespace tyndall::cli {
 
@@ -34,6 +36,13 @@ nlohmann::json parseArgument(const std::string& text, const std::string& option)
     }
 }
 
+std::string tableList(const std::string& dir = "") {
+    std::string list;
+    for (const std::string& t : ltsdTablePhases(dir))
+        list += (list.empty() ? "" : ", ") + t;
+    return list.empty() ? "none" : list;
+}
+
 LtsdPhase parsePhase(const std::string& text) {
     const nlohmann::json j = parseArgument(text, "--phase");
     if (!j.is_object() || !j.contains("type") || !j["type"].is_string())
@@ -42,7 +51,7 @@ LtsdPhase parsePhase(const std::string& text) {
     phase.type = j["type"].get<std::string>();
     if (phase.type != "hg")
         throw InputError(InputLocation{"", 0, 0, "--phase.type"},
-                         "no LTSD table for '" + phase.type + "'; tables exist for: hg");
+                         "no LTSD table for '" + phase.type + "'; tables exist for: " + tableList());
     if (j.contains("g") && !j["g"].is_number())
         throw InputError(InputLocation{"", 0, 0, "--phase.g"}, "must be a number in (-1, 1)");
     phase.g = j.value("g", 0.0);
@@ -150,6 +159,54 @@ int tablesEval(const TablesEvalArgs& args) {
             {"clampedCosine", double(shader::ltsdClampedCosineIntegral(polygon))},
         };
         std::printf("%s\n", j.dump(2).c_str());
+        return int(kOk);
+    });
+}
+
+int plot(const PlotArgs& args) {
+    return reportErrors([&] {
+        const std::filesystem::path out(args.out);
+        if (out.extension() != ".csv")
+            throw InputError(InputLocation{"", 0, 0, "--out"},
+                             "must end in .csv, got '" + args.out +
+                                 "' (the studio's File > Export writes the drawn plots as PNG and SVG)");
+        if (args.points < 0 || args.points == 1 || args.points > 1000000)
+            throw InputError(InputLocation{"", 0, 0, "--points"}, "must be 0 (the default) or in [2, 1000000]");
+        if (args.plot == "ltsd-polar" && !(args.g > -1.0 && args.g < 1.0))
+            throw InputError(InputLocation{"", 0, 0, "--g"}, "must be in (-1, 1), got " + std::to_string(args.g));
+        const LtsdTable table = loadLtsdTable(ltsdTablePath("hg", args.tables));
+        std::string csv;
+        char line[256];
+        if (args.plot == "ltsd-polar") {
+            // psi from omega_o (+z, towards the viewer); the fit's hemisphere, as its density jumps at the horizon.
+            csv = "psi,phase,fitted,hemisphere\n";
+            for (const LtsdPolarPoint& p : ltsdPolarCurve(table, args.g, args.points > 0 ? args.points : 720)) {
+                std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%s\n", p.psi, p.phase, p.fitted,
+                              std::cos(p.psi) > 0.0 ? "upper" : "lower");
+                csv += line;
+            }
+        } else {
+            csv = "g,tvUpper,tvLower,bound\n";
+            for (const LtsdFitError& e : ltsdFitErrorCurve(table, args.points > 0 ? args.points : 101)) {
+                std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g\n", e.g, e.tvUpper, e.tvLower, e.bound);
+                csv += line;
+            }
+        }
+        // Atomically, so that a failed write leaves no partial file.
+        const std::filesystem::path partial = out.string() + ".partial";
+        {
+            std::ofstream file(partial, std::ios::binary);
+            file << csv;
+            file.close();
+            if (!file) {
+                std::error_code ec;
+                std::filesystem::remove(partial, ec);
+                throw std::runtime_error("cannot write " + args.out);
+            }
+        }
+        std::error_code ec;
+        std::filesystem::rename(partial, out, ec);
+        if (ec) throw std::runtime_error("cannot write " + args.out + ": " + ec.message());
         return int(kOk);
     });
 }

@@ -124,7 +124,27 @@ TEST(LtsdTable, FittedDensityIntegratesToOneAndFeedsThePolarCurve) {
     for (const LtsdFitError& e : curve) {
         EXPECT_GT(e.tvUpper, 0.0);
         EXPECT_LT(e.bound, 0.25) << e.g;
+        // The studio's caption quotes ltsdFitErrorAt: the same numbers at the curve's g.
+        const LtsdFitError at = ltsdFitErrorAt(t, e.g);
+        EXPECT_EQ(at.tvUpper, e.tvUpper);
+        EXPECT_EQ(at.tvLower, e.tvLower);
+        EXPECT_EQ(at.bound, e.bound);
     }
+    // Beyond the table's range, g is clamped as the fetch clamps it.
+    EXPECT_EQ(ltsdFitErrorAt(t, 0.999).bound, ltsdFitErrorAt(t, double(t.gMax)).bound);
+}
+
+// The phase types with a table are the folder's <type>.ltsd files, sorted; nothing else counts.
+TEST(LtsdTable, ListsThePhaseTypesThatHaveATable) {
+    EXPECT_EQ(ltsdTablePhases(std::filesystem::path(TYNDALL_SHIPPED_TABLE).parent_path().string()),
+              std::vector<std::string>{"hg"});
+    const std::filesystem::path dir = std::filesystem::path(TYNDALL_TEST_TMP) / "table-phases";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    for (const char* name : {"rayleigh.ltsd", "hg.ltsd", "hg.ltsd.json", "notes.txt"})
+        std::ofstream(dir / name) << "x";
+    EXPECT_EQ(ltsdTablePhases(dir.string()), (std::vector<std::string>{"hg", "rayleigh"}));
+    EXPECT_TRUE(ltsdTablePhases((dir / "missing").string()).empty());
 }
 
 // ---------------------------------------------------------------------------------------------------------------------

@@ -71,6 +71,10 @@ std::filesystem::path ltsdTablesDirectory(const std::string& overrideDir = "");
 // The table file for a phase type, e.g. "hg" -> <dir>/hg.ltsd.
 std::filesystem::path ltsdTablePath(const std::string& phaseType, const std::string& overrideDir = "");
 
+// The phase types that have a table file in the tables directory (<type>.ltsd), sorted; for messages such as "no LTSD
+// table for rayleigh; tables exist for: hg". Does not load or check them.
+std::vector<std::string> ltsdTablePhases(const std::string& overrideDir = "");
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Plot data for the studio and the CLI
 
@@ -93,6 +97,9 @@ struct LtsdFitError {
     double bound;  // (a_u tv_u + a_l tv_l) / 2
 };
 std::vector<LtsdFitError> ltsdFitErrorCurve(const LtsdTable& table, int points);
+
+// The same at one g (clamped to the table's range as the fetch clamps it): the error the studio's caption quotes.
+LtsdFitError ltsdFitErrorAt(const LtsdTable& table, double g);
 
 // The total-variation distance between HG's hemisphere at g (upper: mu in [-1, 0]) and an entry's fitted distribution
 // of the same hemisphere, for entries of the form M = diag(m, m, 1) (what the fitter produces). Deterministic
