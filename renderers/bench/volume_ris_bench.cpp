@@ -1,4 +1,4 @@
-// Frame time of Volume-RIS on its bundled project (projects/volume-ris-shaft.json, view "shaft": a box of fog, a quad
+// Frame time of Volume-RIS on its bundled project (projects/examples/volume-ris-shaft.json, view "shaft": a box of fog, a quad
 // light, an occluding plate, a diffuse ground and a GGX ball) at 512 x 512, one camera sample per pixel, for
 // M = 8 and 32 candidates, light points by solid angle (the default, second argument 0) or by area (1):
 //   build/renderers/bench/tyndall_volume_ris_bench
@@ -18,7 +18,7 @@ using namespace tyndall;
 
 namespace {
 
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/volume-ris-shaft.json";
+const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/volume-ris-shaft.json";
 
 RenderJob frameJob(int candidates, bool area, const std::string& device) {
     const std::vector<std::string> overrides = {

@@ -24,7 +24,7 @@ namespace {
 using tyndall::test::chiSquareTest;
 using tyndall::test::integrate;
 
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/volume-ris-shaft.json";
+const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/volume-ris-shaft.json";
 
 Project loadShaft(int width, int height, const std::vector<std::string>& overrides = {}) {
     std::vector<std::string> all = {"camera.width=" + std::to_string(width), "camera.height=" + std::to_string(height)};
