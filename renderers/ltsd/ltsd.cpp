@@ -15,7 +15,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 
 namespace tyndall {
 
@@ -123,10 +122,11 @@ void LtsdTechnique::check(const RenderRequest& request) const {
 
 namespace {
 
-// The analytic pass on the CPU: per pixel A-bar and T L_c-bar, rows in parallel.
-std::vector<glm::vec4> renderCpu(const ltsd::PreparedScene& scene, int width, int height, int threads,
-                                 const RenderCallbacks& callbacks) {
-    std::vector<glm::vec4> out(std::size_t(width) * height * 2);
+// Runs row(y) for every row in parallel with the scene bound to each worker; progress over [from, to); throws
+// Cancelled when cancelled.
+template <typename Row>
+void parallelRows(const ltsd::PreparedScene& scene, int height, int threads, const RenderCallbacks& callbacks,
+                  double from, double to, Row&& row) {
     std::atomic<int> rowsDone{0};
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     arena.execute([&] {
@@ -134,19 +134,29 @@ std::vector<glm::vec4> renderCpu(const ltsd::PreparedScene& scene, int width, in
             ltsd::SceneScope scope(scene);
             for (int y = rows.begin(); y < rows.end(); ++y) {
                 if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
-                for (int x = 0; x < width; ++x) {
-                    glm::vec3 air, surface;
-                    shader::ltsdPixelTerms(scene.frame, x, y, air, surface);
-                    const std::size_t i = std::size_t(y) * width + x;
-                    out[2 * i] = glm::vec4(air, 0.0f);
-                    out[2 * i + 1] = glm::vec4(surface, 0.0f);
-                }
+                row(y);
                 const int done = rowsDone.fetch_add(1) + 1;
-                if (callbacks.progress && (done % 16 == 0)) callbacks.progress(0.5 * double(done) / height);
+                if (callbacks.progress && (done % 16 == 0))
+                    callbacks.progress(from + (to - from) * double(done) / height);
             }
         });
     });
     if (callbacks.cancel && callbacks.cancel->load()) throw Cancelled();
+}
+
+// The analytic pass on the CPU: per pixel A-bar and T L_c-bar.
+std::vector<glm::vec4> renderCpu(const ltsd::PreparedScene& scene, int width, int height, int threads,
+                                 const RenderCallbacks& callbacks) {
+    std::vector<glm::vec4> out(std::size_t(width) * height * 2);
+    parallelRows(scene, height, threads, callbacks, 0.0, 0.5, [&](int y) {
+        for (int x = 0; x < width; ++x) {
+            glm::vec3 air, surface;
+            shader::ltsdPixelTerms(scene.frame, x, y, air, surface);
+            const std::size_t i = std::size_t(y) * width + x;
+            out[2 * i] = glm::vec4(air, 0.0f);
+            out[2 * i + 1] = glm::vec4(surface, 0.0f);
+        }
+    });
     return out;
 }
 
@@ -154,56 +164,22 @@ std::vector<glm::vec4> renderCpu(const ltsd::PreparedScene& scene, int width, in
 std::vector<glm::vec4> renderRatioCpu(const ltsd::PreparedScene& scene, int width, int height, int samples,
                                       std::uint32_t seed, int threads, const RenderCallbacks& callbacks) {
     std::vector<glm::vec4> out(std::size_t(width) * height * 4);
-    std::atomic<int> rowsDone{0};
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<int>(0, height, 1), [&](const tbb::blocked_range<int>& rows) {
-            ltsd::SceneScope scope(scene);
-            for (int y = rows.begin(); y < rows.end(); ++y) {
-                if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
-                for (int x = 0; x < width; ++x) {
-                    glm::vec3 sums[4] = {};
-                    for (int k = 0; k < samples; ++k) {
-                        const shader::LtsdRatioTerms r = shader::ltsdRatioSample(scene.frame, x, y, std::uint32_t(k), seed);
-                        sums[0] += r.airNumerator;
-                        sums[1] += r.airDenominator;
-                        sums[2] += r.surfaceNumerator;
-                        sums[3] += r.surfaceDenominator;
-                    }
-                    const std::size_t i = std::size_t(y) * width + x;
-                    for (int t = 0; t < 4; ++t)
-                        out[4 * i + t] = glm::vec4(sums[t], 0.0f);
-                }
-                const int done = rowsDone.fetch_add(1) + 1;
-                if (callbacks.progress && (done % 16 == 0)) callbacks.progress(0.5 + 0.5 * double(done) / height);
-            }
-        });
-    });
-    if (callbacks.cancel && callbacks.cancel->load()) throw Cancelled();
-    return out;
-}
-
-// The denoiser's guides from each pixel's centre ray: the distance to the first surface (infinite where none) and its
-// normal (zero where none).
-void surfaceGuides(const ltsd::PreparedScene& scene, int width, int height, Image& depth, Image& normal) {
-    depth = Image(width, height, {"Z"});
-    normal = Image(width, height, {"N.X", "N.Y", "N.Z"});
-    ltsd::SceneScope scope(scene);
-    for (int y = 0; y < height; ++y)
+    parallelRows(scene, height, threads, callbacks, 0.5, 1.0, [&](int y) {
         for (int x = 0; x < width; ++x) {
-            glm::vec3 origin, dir;
-            shader::cameraRay(scene.frame.camera, float(x) + 0.5f, float(y) + 0.5f, origin, dir);
-            shader::BvhHit hit;
-            const bool hasHit = scene.surfaces.triangleCount > 0 &&
-                                shader::bvhIntersect(origin, dir, 0.0f, shader::kInfinity, hit);
-            depth.at(x, y, 0) = hasHit ? hit.t : std::numeric_limits<float>::infinity();
-            if (hasHit) {
-                const shader::SurfaceFrame f =
-                    shader::surfaceFrame(scene.surfaces.triangles[hit.id], hit.uv, dir);
-                for (int c = 0; c < 3; ++c)
-                    normal.at(x, y, c) = f.n[c];
+            glm::vec3 sums[4] = {};
+            for (int k = 0; k < samples; ++k) {
+                const shader::LtsdRatioTerms r = shader::ltsdRatioSample(scene.frame, x, y, std::uint32_t(k), seed);
+                sums[0] += r.airNumerator;
+                sums[1] += r.airDenominator;
+                sums[2] += r.surfaceNumerator;
+                sums[3] += r.surfaceDenominator;
             }
+            const std::size_t i = std::size_t(y) * width + x;
+            for (int t = 0; t < 4; ++t)
+                out[4 * i + t] = glm::vec4(sums[t], 0.0f);
         }
+    });
+    return out;
 }
 
 // A channel set of one term of the ratio sums (t = 0..3) as an image.
@@ -267,16 +243,16 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
     Image ratioAir, ratioSurface;
     if (shadows) {
         DenoiseGuides guides;
-        Image depth, normal, unshadowed(width, height, {"R", "G", "B"});
-        surfaceGuides(scene, width, height, depth, normal);
+        const SurfaceGuides surface = centreRayGuides(scene.surfaces, scene.frame.camera, width, height);
+        Image unshadowed(width, height, {"R", "G", "B"});
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
                 const std::size_t i = std::size_t(y) * width + x;
                 for (int c = 0; c < 3; ++c)
                     unshadowed.at(x, y, c) = terms[2 * i][c] + terms[2 * i + 1][c];
             }
-        guides.depth = &depth;
-        guides.normal = &normal;
+        guides.depth = &surface.depth;
+        guides.normal = &surface.normal;
         guides.guide = &unshadowed;
         DenoiseSettings denoiseSettings;
         denoiseSettings.ratioFallback = 1.0f;

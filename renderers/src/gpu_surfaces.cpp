@@ -2,6 +2,9 @@
 
 #include "src/shader_params.h"
 
+#include "shared/bvh.h"
+#include "shared/surface.h"
+
 #include "tyndall/error.h"
 #include "tyndall/geometry.h"
 
@@ -60,6 +63,25 @@ GpuSurfaces prepareGpuSurfaces(const Scene& scene, const std::string& projectDir
     // next step (issue 16).
     s.rayOffset = 1e-6f * std::max(1e-3f, glm::length(extent));
     return s;
+}
+
+SurfaceGuides centreRayGuides(const GpuSurfaces& surfaces, const shader::CameraParams& camera, int width, int height) {
+    SurfaceGuides g{Image(width, height, {"Z"}), Image(width, height, {"N.X", "N.Y", "N.Z"})};
+    gpu::BvhScope scope(surfaces.bvh);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            glm::vec3 origin, dir;
+            shader::cameraRay(camera, float(x) + 0.5f, float(y) + 0.5f, origin, dir);
+            shader::BvhHit hit;
+            const bool hasHit =
+                surfaces.triangleCount > 0 && shader::bvhIntersect(origin, dir, 0.0f, shader::kInfinity, hit);
+            g.depth.at(x, y, 0) = hasHit ? hit.t : std::numeric_limits<float>::infinity();
+            if (!hasHit) continue;
+            const shader::SurfaceFrame f = shader::surfaceFrame(surfaces.triangles[hit.id], hit.uv, dir);
+            for (int c = 0; c < 3; ++c)
+                g.normal.at(x, y, c) = f.n[c];
+        }
+    return g;
 }
 
 }  // namespace tyndall

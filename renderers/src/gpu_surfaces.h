@@ -3,8 +3,10 @@
 #pragma once
 
 #include "shared/bsdf.h"
+#include "shared/camera.h"
 #include "shared/surface.h"
 #include "tyndall/gpu/bvh.h"
+#include "tyndall/image.h"
 #include "tyndall/scene.h"
 
 #include <string>
@@ -23,5 +25,13 @@ struct GpuSurfaces {
 
 // Throws InputError for a mesh whose material is unknown or whose file cannot be read.
 GpuSurfaces prepareGpuSurfaces(const Scene& scene, const std::string& projectDir);
+
+// A denoiser's guides (tyndall/denoise.h) from each pixel's centre ray: the distance to the first surface ("Z",
+// infinite where there is none) and its shading normal ("N.X", "N.Y", "N.Z", zero where there is none).
+struct SurfaceGuides {
+    Image depth;
+    Image normal;
+};
+SurfaceGuides centreRayGuides(const GpuSurfaces& surfaces, const shader::CameraParams& camera, int width, int height);
 
 }  // namespace tyndall

@@ -16,7 +16,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 
 namespace tyndall {
 
@@ -207,22 +206,6 @@ std::vector<Image> denoisedRatios(const std::vector<glm::vec4>& acc, const Layou
     return ratios;
 }
 
-// The depth of each pixel's centre ray: the first surface, infinite where there is none (the denoiser's depth guide).
-Image centreDepth(const PreparedScene& scene, int width, int height) {
-    Image depth(width, height, {"Z"});
-    wvds::SceneScope scope(scene);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            glm::vec3 origin, dir;
-            shader::cameraRay(scene.frame.camera, float(x) + 0.5f, float(y) + 0.5f, origin, dir);
-            shader::BvhHit hit;
-            depth.at(x, y, 0) = shader::bvhIntersect(origin, dir, 0.0f, shader::kInfinity, hit)
-                                    ? hit.t
-                                    : std::numeric_limits<float>::infinity();
-        }
-    return depth;
-}
-
 Image resolve(const std::vector<glm::vec4>& acc, const Layout& layout, int threads, long& nonFinitePixels,
               const Image* denoiseDepth = nullptr) {
     Image image(layout.width, layout.height, {"R", "G", "B", "variance.R", "variance.G", "variance.B"});
@@ -295,7 +278,8 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
     if (settings.device == wvds::Device::Auto) onGpu = gpu::hardwareDeviceAvailable();
     // The denoiser's depth guide, once per render.
     const bool denoise = settings.denoise && layout.ratioLights > 0;
-    const Image depth = denoise ? centreDepth(scene, layout.width, layout.height) : Image();
+    const Image depth =
+        denoise ? centreRayGuides(scene.surfaces, scene.frame.camera, layout.width, layout.height).depth : Image();
     std::vector<glm::vec4> acc;  // the CPU path's accumulators
     if (onGpu) {
         if (!gpu_) gpu_ = std::make_unique<wvds::GpuRenderer>();

@@ -255,10 +255,10 @@ TY_FUNC vec3 ltsdInScattered(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(v
     return light.radiance * ltsdMeanTransmittance(f, light, z) * s;
 }
 
-// Node i of N on [a, b] for the placement: its position in x, its weight (the Delta z of Eq. 15) in y. `camera` holds
-// the grey extinction sigma and the ray's medium entry t_in for the transmittance placement; `centre` the light's
-// centroid's foot on the ray (t) and distance D from it for the equiangular placement.
-TY_FUNC vec2 ltsdNode(int placement, int i, int n, float a, float b, TY_IN(vec2) camera, TY_IN(vec2) centre) {
+// Node i of N on [a, b] for the placement: its position in x, its weight (the Delta z of Eq. 15) in y. `sigma` is the
+// grey extinction for the transmittance placement; `centre` holds the light's centre's foot on the ray (t) and the
+// equiangular distance D for the equiangular placement.
+TY_FUNC vec2 ltsdNode(int placement, int i, int n, float a, float b, float sigma, TY_IN(vec2) centre) {
     float u = (float(i) + 0.5f) / float(n);
     if (placement == kLtsdPlacementEquiangular) {
         // t = t_c + D tan(theta), theta uniform: dt = D / cos^2(theta) dtheta.
@@ -270,7 +270,7 @@ TY_FUNC vec2 ltsdNode(int placement, int i, int n, float a, float b, TY_IN(vec2)
     if (placement == kLtsdPlacementTransmittance) {
         // Equal parts of int_a^b e^(-sigma (t - t_in)) dt: t = a - ln(1 - u (1 - e^(-sigma L))) / sigma, weight
         // (1 - e^(-sigma L)) / (sigma N) e^(sigma (t - a)) (the midpoint rule in the transformed variable).
-        float sigma = camera.x, span = b - a;
+        float span = b - a;
         if (sigma * span > 1e-4f) {
             float mass = 1.0f - exp(-sigma * span);
             float t = a - log(1.0f - u * mass) / sigma;
@@ -296,7 +296,7 @@ TY_FUNC vec3 ltsdAirLightPart(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(
     float D = sqrt(dot(off, off) + light.radius2) + 1e-6f * (1.0f + abs(foot));
     int placement = ltsdPlacement(f);
     for (int i = 0; i < f.nodes; ++i) {
-        vec2 node = ltsdNode(placement, i, f.nodes, a, b, vec2(sigma, tIn), vec2(foot, D));
+        vec2 node = ltsdNode(placement, i, f.nodes, a, b, sigma, vec2(foot, D));
         vec3 z = origin + node.x * dir;
         sum += exp(-f.sigmaT * (node.x - tIn)) * ltsdInScattered(f, light, z, tx, ty, -dir) * node.y;
     }
