@@ -168,8 +168,9 @@ TEST(LtsdInScattering, MatchesHenyeyGreensteinOverThePolygon) {
         mean /= n;
         std::printf("g %+.1f: S against HG over the polygon: worst %.3f, mean %.3f\n", g, worst, mean);
         RecordProperty("worst_g" + std::to_string(int(std::lround(g * 10))), std::to_string(worst));
-        EXPECT_LT(mean, 0.25) << "g = " << g;
-        EXPECT_LT(worst, 1.0) << "g = " << g;
+        // Measured: worst 0.66 / 0.44 / 0.58 / 0.22, mean 0.165 / 0.127 / 0.151 / 0.014 for g -0.6 / 0 / 0.4 / 0.9.
+        EXPECT_LT(mean, 0.22) << "g = " << g;
+        EXPECT_LT(worst, 0.87) << "g = " << g;
     }
 }
 
@@ -226,7 +227,7 @@ TEST(LtsdQuadrature, ConvergesToTheAirLightIntegral) {
     }
     for (int p = 0; p < 3; ++p) {
         EXPECT_LT(worst[p][2], worst[p][0]) << "placement " << p << " converges";
-        EXPECT_LT(worst[p][3], 1e-3) << "placement " << p;
+        EXPECT_LT(worst[p][3], 2e-5) << "placement " << p;  // measured 1.2e-6 to 4.9e-6
     }
     // N = 8 near the light is limited by the kinks of L_s where the ray passes the panel's edges 2 cm below it: 10 %
     // (midpoint 40 %, transmittance 15 %); 20 cm and more below, 2.5 %.
