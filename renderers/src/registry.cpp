@@ -3,6 +3,7 @@
 #include "tyndall/params.h"
 #include "tyndall/technique.h"
 
+#include "isv/isv.h"
 #include "ltsd/ltsd.h"
 #include "pegoraro/pegoraro.h"
 #include "volume_ris/volume_ris.h"
@@ -25,6 +26,7 @@ struct Registry {
         factories["ltsd"] = [] { return std::make_unique<LtsdTechnique>(); };
         factories["wvds"] = [] { return std::make_unique<WvdsTechnique>(); };
         factories["volume-ris"] = [] { return std::make_unique<VolumeRisTechnique>(); };
+        factories["isv"] = [] { return std::make_unique<IsvTechnique>(); };
     }
 };
 

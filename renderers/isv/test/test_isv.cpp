@@ -1,0 +1,495 @@
+// The ISV technique (Jandhyala 2025; ../shared/papers/004) piece by piece: the interval-shading proxies against exact
+// ray-tetrahedron intersection, each integration mode against quadrature of Eq. 7 with the Eq. 9 falloff, the
+// volumetric shadow map against the optical depth it stores, back-to-front compositing against the analytic
+// composite; then whole against the reference, the GPU against the CPU model, and what it refuses.
+#include "test/technique_gpu_test.h"
+
+#include "isv/isv.h"
+#include "isv/prepared.h"
+
+#include "tyndall/error.h"
+#include "tyndall/geometry.h"
+#include "tyndall/metrics.h"
+#include "tyndall/render.h"
+
+#include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace tyndall::isv::test {
+namespace {
+
+using shader::IsvFrame;
+using shader::IsvParticle;
+
+Particle particleAt(const Vec3& centre, double scale, std::mt19937& rng, double multiplier = 1.0) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Particle p;
+    p.centre = centre;
+    p.scale = scale;
+    p.orientation = glm::normalize(glm::dquat(u(rng), u(rng), u(rng), u(rng)));
+    p.extinctionMultiplier = multiplier;
+    return p;
+}
+
+IsvParticle toIsv(const Particle& particle, double sigma) {
+    const std::array<Vec3, 4> v = tetrahedronVertices(particle);
+    IsvParticle q{};
+    q.v0 = glm::vec3(v[0]);
+    q.v1 = glm::vec3(v[1]);
+    q.v2 = glm::vec3(v[2]);
+    q.v3 = glm::vec3(v[3]);
+    q.centre = glm::vec3(particle.centre);
+    q.sigma = float(sigma * particle.extinctionMultiplier);
+    const double u = particle.scale * particle.falloff;
+    q.k = float(50.0 / (u * u));
+    return q;
+}
+
+// The particle's optical depth over [a, b] of a ray, in double (the reference's formula).
+double exactDepth(const IsvParticle& p, const glm::dvec3& o, const glm::dvec3& d, double a, double b) {
+    if (b <= a) return 0.0;
+    // The float ray direction is unit to 1e-7 only; with t_c^2 ~ 10 m^2 that alone would move h^2 by 1e-6 m^2.
+    const glm::dvec3 oc = glm::dvec3(p.centre) - o, u = glm::normalize(d);
+    const double tc = glm::dot(oc, u), h2 = std::max(0.0, glm::dot(oc, oc) - tc * tc), sk = std::sqrt(double(p.k));
+    const double scale = glm::length(d);  // a and b are in units of |d|
+    return double(p.sigma) * std::exp(-double(p.k) * h2) * 0.5 * std::sqrt(M_PI) / sk *
+           (std::erf(sk * (b * scale - tc)) - std::erf(sk * (a * scale - tc)));
+}
+
+shader::CameraParams cameraLookingAt(const glm::vec3& position, const glm::vec3& target, int w, int h) {
+    Camera c;
+    c.position = Vec3(position);
+    c.target = Vec3(target);
+    c.fovY = 40.0;
+    c.width = w;
+    c.height = h;
+    shader::CameraParams p{};
+    const glm::vec3 forward = glm::normalize(target - position);
+    const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0, 1, 0)));
+    p.position = position;
+    p.forward = forward;
+    p.right = right;
+    p.up = glm::cross(right, forward);
+    p.tanHalfFovY = float(std::tan(20.0 * M_PI / 180.0));
+    p.aspect = float(w) / float(h);
+    p.width = float(w);
+    p.height = float(h);
+    return p;
+}
+
+// Pixel coordinates of x for the camera (the projection compositeCpu and the geometry shader use).
+glm::vec2 project(const shader::CameraParams& c, const glm::vec3& x) {
+    const glm::vec3 r = x - c.position;
+    const float z = glm::dot(r, c.forward);
+    return {(glm::dot(r, c.right) / (z * c.tanHalfFovY * c.aspect) + 1.0f) * 0.5f * c.width,
+            (1.0f - glm::dot(r, c.up) / (z * c.tanHalfFovY)) * 0.5f * c.height};
+}
+
+// -------------------------------------------------------------------------------------------------------------------
+// Proxies (Sec. 2.3)
+
+TEST(IsvProxy, InterpolatedDepthsEqualTheRayTetrahedronInterval) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    int covered = 0, case1 = 0, case2 = 0;
+    double worst = 0.0;
+    for (int trial = 0; trial < 200; ++trial) {
+        const IsvParticle p = toIsv(particleAt(Vec3(u(rng), u(rng), u(rng)), 0.3 + 0.5 * std::abs(u(rng)), rng), 1.0);
+        const glm::vec3 eye = p.centre + glm::normalize(glm::vec3(u(rng), u(rng), u(rng))) * (1.5f + 2.0f * std::abs(u(rng)));
+        const shader::CameraParams cam = cameraLookingAt(eye, p.centre + 0.2f * glm::vec3(u(rng), u(rng), u(rng)), 64, 48);
+        const glm::vec3 v[4] = {p.v0, p.v1, p.v2, p.v3};
+        glm::vec2 s[4];
+        glm::vec4 q;
+        for (int i = 0; i < 4; ++i) {
+            s[i] = project(cam, v[i]);
+            q[i] = 1.0f / glm::dot(v[i] - cam.position, cam.forward);
+        }
+        const shader::IsvProxy proxy = shader::isvProxy(s[0], s[1], s[2], s[3], q);
+        ASSERT_TRUE(proxy.silhouette == 3 || proxy.silhouette == 4);
+        (proxy.silhouette == 3 ? case1 : case2)++;
+        for (int py = 0; py < 48; ++py)
+            for (int px = 0; px < 64; ++px) {
+                const glm::vec2 pixel(float(px) + 0.5f, float(py) + 0.5f);
+                glm::vec3 o, d;
+                shader::cameraRay(cam, pixel.x, pixel.y, o, d);
+                const glm::vec2 t = shader::isvRayTetrahedron(p, o, d);
+                int inside = -1;
+                glm::vec3 l(0.0f);
+                float margin = 1.0f;
+                for (int i = 0; i < proxy.silhouette && inside < 0; ++i) {
+                    l = shader::isvBarycentric(pixel, proxy.p[i], proxy.p[(i + 1) % proxy.silhouette],
+                                               proxy.p[proxy.silhouette]);
+                    if (l.x >= 0.0f && l.y >= 0.0f && l.z >= 0.0f) inside = i;
+                    margin = std::min(margin, std::min({std::abs(l.x), std::abs(l.y), std::abs(l.z)}));
+                }
+                const float chord = t.y - t.x;
+                if (inside < 0) {
+                    if (margin > 1e-3f) {
+                        EXPECT_FALSE(chord > 1e-3f) << "uncovered pixel inside the tetrahedron";
+                    }
+                    continue;
+                }
+                ++covered;
+                const int i = inside;
+                const glm::vec2 qi = l.x * proxy.q[i] + l.y * proxy.q[(i + 1) % proxy.silhouette] +
+                                     l.z * proxy.q[proxy.silhouette];
+                const float cosine = glm::dot(d, cam.forward);
+                const float ta = 1.0f / qi.x / cosine, tb = 1.0f / qi.y / cosine;
+                ASSERT_TRUE(t.x <= t.y + 1e-4f) << "a covered pixel misses the tetrahedron";
+                const double err = std::max(std::abs(std::min(ta, tb) - t.x), std::abs(std::max(ta, tb) - t.y));
+                worst = std::max(worst, err);
+                EXPECT_LT(err, 2e-4) << "trial " << trial << " pixel " << px << "," << py;
+            }
+    }
+    EXPECT_GT(covered, 5000);
+    EXPECT_GT(case1, 10);
+    EXPECT_GT(case2, 10);
+    std::printf("proxies: %d covered pixel centres, %d case-1 and %d case-2 tetrahedra, worst depth error %.2g m\n",
+                covered, case1, case2, worst);
+}
+
+// -------------------------------------------------------------------------------------------------------------------
+// Integration (Sec. 3.7-3.10)
+
+std::vector<float> gradientVsm;  // slice 0: 0, slice 1: c everywhere (see frameWithGradient)
+std::vector<float> noShadow;
+
+// A frame lit from above (light travelling along -y) through a volumetric shadow map whose optical depth grows
+// linearly with depth below y = 2: tau_L(x) = c (2 - x.y) / 2 over the region |x|, |z| < 15.
+IsvFrame frameWithGradient(float c, int integration, int steps) {
+    IsvFrame f{};
+    f.lightDirection = glm::vec3(0.0f, -1.0f, 0.0f);
+    f.irradiance = glm::vec3(1.0f);
+    f.integration = integration;
+    f.steps = steps;
+    f.threshold = 0.0f;
+    f.fading = 1;
+    f.mediumCount = 1;
+    f.media[0].albedo = glm::vec3(1.0f);
+    f.media[0].phase.kind = shader::kPhaseIsotropic;
+    f.hasVsm = c > 0.0f ? 1 : 0;
+    shader::IsvLightSpace& g = f.vsm;
+    g.forward = glm::vec3(0.0f, -1.0f, 0.0f);
+    shader::buildFrame(g.forward, g.right, g.up);
+    g.size = 4;
+    g.texel = 10.0f;
+    g.slices = 2;
+    g.depthStep = 2.0f;
+    g.origin = glm::vec3(0.0f, 2.0f, 0.0f) - 20.0f * (g.right + g.up);
+    gradientVsm.assign(32, 0.0f);
+    for (int i = 16; i < 32; ++i)
+        gradientVsm[std::size_t(i)] = c;
+    return f;
+}
+
+// Quadrature of Eq. 7 without K for the frame's exact fields: sigma_t T_V T_L with tau_L = c (2 - y) / 2.
+double quadratureEq7(const IsvParticle& p, const glm::dvec3& o, const glm::dvec3& d, double t0, double t1, double c) {
+    const int n = 20000;
+    const double h = (t1 - t0) / n;
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double t = t0 + (i + 0.5) * h;
+        const glm::dvec3 x = o + t * d, r = x - glm::dvec3(p.centre);
+        const double sigma = double(p.sigma) * std::exp(-double(p.k) * glm::dot(r, r));
+        sum += sigma * std::exp(-exactDepth(p, o, d, t0, t) - c * (2.0 - x.y) / 2.0) * h;
+    }
+    return sum;
+}
+
+TEST(IsvShade, IntegrationModesAgainstQuadratureOfEq7) {
+    std::mt19937 rng(5);
+    Particle particle = particleAt(Vec3(0.1, 1.0, -0.2), 0.6, rng, 6.0);
+    const IsvParticle p = toIsv(particle, 1.0);
+    shader::isvErf(0.0f);
+    MapScope maps(&gradientVsm, &noShadow);
+    const glm::vec3 o(-2.0f, 1.3f, 2.5f);
+    struct Row {
+        const char* name;
+        int integration, steps;
+        double bound;
+    };
+    // Bounds at 1.3-2x the worst relative error measured over these rays (printed): one Simpson step, the thesis'
+    // default, is off by up to 58 % on a ray through a dense particle's edge; ten steps agree with the quadrature.
+    const Row rows[] = {{"simpson 1", shader::kIsvSimpson, 1, 0.8}, {"simpson 2", shader::kIsvSimpson, 2, 0.1},
+                        {"simpson 10", shader::kIsvSimpson, 10, 3e-5}, {"taylor", shader::kIsvTaylor, 1, 2.6}};
+    for (const Row& row : rows) {
+        double worst = 0.0;
+        for (int k = 0; k < 40; ++k) {
+            const glm::vec3 target = p.centre + 0.25f * glm::vec3(std::sin(k * 1.3f), std::cos(k * 0.7f), std::sin(k * 2.1f));
+            const glm::vec3 d = glm::normalize(target - o);
+            const glm::vec2 t = shader::isvRayTetrahedron(p, o, d);
+            if (!(t.y - t.x > 0.05f)) continue;
+            for (float c : {0.0f, 1.5f}) {
+                const IsvFrame f = frameWithGradient(c, row.integration, row.steps);
+                const glm::vec4 s = shader::isvShade(f, p, o, d, t.x, t.y);
+                const double expected = quadratureEq7(p, o, d, t.x, t.y, c) * shader::kInvFourPi;
+                const double rel = std::abs(s.x - expected) / expected;
+                worst = std::max(worst, rel);
+                EXPECT_LT(rel, row.bound) << row.name << " ray " << k << " c " << c;
+                EXPECT_NEAR(s.w, std::exp(-exactDepth(p, o, d, t.x, t.y)), 2e-6) << "A = T_V(z_min, z_max)";
+            }
+        }
+        std::printf("%-10s worst relative error against quadrature of Eq. 7: %.3g\n", row.name, worst);
+    }
+}
+
+TEST(IsvShade, AnalyticModeIsExactForConstantExtinction) {
+    std::mt19937 rng(6);
+    const IsvParticle p = toIsv(particleAt(Vec3(0.0, 1.0, 0.0), 0.5, rng, 3.0), 1.0);
+    MapScope maps(&gradientVsm, &noShadow);
+    const glm::vec3 o(0.3f, 1.1f, 3.0f), d = glm::normalize(p.centre - o);
+    const glm::vec2 t = shader::isvRayTetrahedron(p, o, d);
+    for (float c : {0.0f, 0.7f, 3.0f}) {
+        IsvFrame f = frameWithGradient(c, shader::kIsvAnalytic, 1);
+        const glm::vec4 s = shader::isvShade(f, p, o, d, t.x, t.y);
+        // sigma int_0^L e^(-sigma s) e^(-tau_L(s)) ds with tau_L linear along the ray, by quadrature.
+        const double sigma = p.sigma, L = t.y - t.x;
+        const double tau0 = c * (2.0 - (o.y + t.x * d.y)) / 2.0, tau1 = c * (2.0 - (o.y + t.y * d.y)) / 2.0;
+        double sum = 0.0;
+        const int n = 100000;
+        for (int i = 0; i < n; ++i) {
+            const double s0 = (i + 0.5) * L / n;
+            sum += sigma * std::exp(-sigma * s0 - (tau0 + (tau1 - tau0) * s0 / L)) * L / n;
+        }
+        EXPECT_NEAR(s.x / shader::kInvFourPi, sum, 2e-5 * sum) << "c " << c;
+        EXPECT_NEAR(s.w, std::exp(-sigma * L), 1e-6);
+    }
+}
+
+TEST(IsvShade, EarlyOutSkipsThinFragmentsAndWastedPixelsShowThem) {
+    std::mt19937 rng(7);
+    const IsvParticle p = toIsv(particleAt(Vec3(0.0, 1.0, 0.0), 0.5, rng, 1.0), 1.0);
+    MapScope maps(&gradientVsm, &noShadow);
+    const glm::vec3 o(0.0f, 1.0f, 3.0f), d(0.0f, 0.0f, -1.0f);
+    const glm::vec2 t = shader::isvRayTetrahedron(p, o, d);
+    IsvFrame f = frameWithGradient(0.0f, shader::kIsvSimpson, 1);
+    const float tau = -std::log(shader::isvShade(f, p, o, d, t.x, t.y).w);
+    f.threshold = 1.01f * tau;
+    EXPECT_EQ(shader::isvShade(f, p, o, d, t.x, t.y), glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+    f.integration = shader::kIsvWasted;
+    EXPECT_EQ(shader::isvShade(f, p, o, d, t.x, t.y), glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+    f.threshold = 0.99f * tau;
+    EXPECT_EQ(shader::isvShade(f, p, o, d, t.x, t.y), glm::vec4(0.0f, 1.0f, 0.0f, 1.0f));
+}
+
+// -------------------------------------------------------------------------------------------------------------------
+// The scene: a small particle cloud under a directional light, optionally over a floor.
+
+Scene cloudScene(int count, bool floor, int width = 48, int height = 36) {
+    Scene s;
+    s.camera.position = Vec3(0.0, 1.2, 3.2);
+    s.camera.target = Vec3(0.0, 0.9, 0.0);
+    s.camera.fovY = 40.0;
+    s.camera.width = width;
+    s.camera.height = height;
+    ParticleMedium m;
+    m.name = "smoke";
+    m.extinction = 1.5;
+    m.albedo = Rgb(0.9, 0.85, 0.8);
+    m.phase.kind = PhaseKind::IsoHgMix;
+    m.phase.a = 0.7;
+    m.phase.g = 0.5;
+    ParticleGenerator g;
+    g.count = count;
+    g.seed = 3;
+    g.region.centre = Vec3(0.0, 0.9, 0.0);
+    g.region.size = Vec3(1.2, 0.8, 1.0);
+    g.scale = 0.3;
+    m.generator = g;
+    s.particleMedia.push_back(m);
+    DirectionalLight sun;
+    sun.name = "sun";
+    sun.direction = glm::normalize(Vec3(0.4, -1.0, -0.3));
+    sun.irradiance = Rgb(3.0, 2.9, 2.7);
+    s.directionalLights.push_back(sun);
+    if (floor) {
+        Material grey;
+        grey.name = "grey";
+        grey.albedo = Rgb(0.5);
+        s.materials.push_back(grey);
+        Mesh plane;
+        plane.name = "floor";
+        plane.transform.scale = Vec3(6.0, 1.0, 6.0);
+        plane.material = "grey";
+        s.meshes.push_back(plane);
+        Mesh box;
+        box.name = "occluder";
+        box.source = Mesh::Source::Box;
+        box.transform.translate = Vec3(-0.3, 1.9, 0.2);
+        box.transform.scale = Vec3(0.4, 0.1, 0.4);
+        box.material = "grey";
+        s.meshes.push_back(box);
+    }
+    return s;
+}
+
+TEST(IsvVsm, SlicesHoldTheOpticalDepthFromTheLightToEachSlice) {
+    const Scene scene = cloudScene(40, false);
+    Settings settings;
+    settings.vsmResolution = 32;
+    settings.vsmSlices = 8;
+    const PreparedScene p = prepareScene(scene, settings, "");
+    ASSERT_TRUE(p.vsm);
+    const shader::IsvLightSpace& g = p.frame.vsm;
+    const std::vector<float> slices = slicesFromSlabs(vsmSlabsCpu(p, 0, nullptr), g);
+    double worst = 0.0, largest = 0.0;
+    for (int y = 0; y < g.size; y += 3)
+        for (int x = 0; x < g.size; x += 3) {
+            const glm::dvec3 o = glm::dvec3(g.origin) + (x + 0.5) * double(g.texel) * glm::dvec3(g.right) +
+                                 (y + 0.5) * double(g.texel) * glm::dvec3(g.up);
+            for (int s = 0; s < g.slices; ++s) {
+                double tau = 0.0;
+                for (const IsvParticle& q : p.particles) {
+                    const glm::vec2 t = shader::isvRayTetrahedron(q, glm::vec3(o), g.forward);
+                    if (t.x < t.y) tau += exactDepth(q, o, glm::dvec3(g.forward), t.x, std::min<double>(t.y, s * g.depthStep));
+                }
+                const float stored = slices[(std::size_t(s) * g.size + y) * g.size + x];
+                worst = std::max(worst, std::abs(stored - tau));
+                largest = std::max(largest, tau);
+                EXPECT_NEAR(stored, tau, 1e-4 + 1e-4 * tau) << "texel " << x << "," << y << " slice " << s;
+            }
+        }
+    EXPECT_GT(largest, 0.5) << "the cloud should be optically thick somewhere";
+}
+
+// -------------------------------------------------------------------------------------------------------------------
+// Compositing (Sec. 3.2)
+
+TEST(IsvComposite, OverlappingParticlesBlendBackToFrontAndAReversedOrderFails) {
+    for (int count : {2, 3}) {
+        Scene scene = cloudScene(0, false, 16, 16);
+        std::mt19937 rng(9);
+        // One medium per particle, each of its own colour: blending is then not commutative.
+        const Rgb albedos[3] = {Rgb(0.9, 0.2, 0.2), Rgb(0.2, 0.2, 0.9), Rgb(0.2, 0.9, 0.2)};
+        scene.particleMedia.resize(std::size_t(count), scene.particleMedia[0]);
+        for (int i = 0; i < count; ++i) {
+            ParticleMedium& m = scene.particleMedia[std::size_t(i)];
+            m.name = "medium " + std::to_string(i);
+            m.albedo = albedos[i];
+            m.particles.push_back(particleAt(Vec3(0.05 * i, 0.9, -0.35 * i), 0.5, rng, 4.0));
+        }
+        Settings settings;
+        const PreparedScene p = prepareScene(scene, settings, "");
+        const std::vector<float> vsm = slicesFromSlabs(vsmSlabsCpu(p, 0, nullptr), p.frame.vsm);
+        const std::vector<glm::vec4> background(std::size_t(p.width) * p.height, glm::vec4(0.2f, 0.3f, 0.4f, shader::kInfinity));
+        const std::vector<std::uint32_t> order = backToFront(p);
+        ASSERT_EQ(order.front(), std::uint32_t(count - 1)) << "the farthest particle comes first";
+        const std::vector<glm::vec4> image = compositeCpu(p, background, vsm, noShadow, order, 0, nullptr);
+        std::vector<std::uint32_t> reversed(order.rbegin(), order.rend());
+        const std::vector<glm::vec4> wrong = compositeCpu(p, background, vsm, noShadow, reversed, 0, nullptr);
+
+        // The centre pixel by hand: C = s_0 + A_0 (s_1 + A_1 (... + A_n background)), nearest first.
+        MapScope maps(&vsm, &noShadow);
+        glm::vec3 o, d;
+        shader::cameraRay(p.camera, 8.5f, 8.5f, o, d);
+        glm::vec3 c(0.2f, 0.3f, 0.4f);
+        float a = 1.0f;
+        int hits = 0;
+        for (int i = count - 1; i >= 0; --i) {  // farthest first
+            const glm::vec2 t = shader::isvRayTetrahedron(p.particles[std::size_t(i)], o, d);
+            if (!(t.x < t.y)) continue;
+            ++hits;
+            const glm::vec4 s = shader::isvShade(p.frame, p.particles[std::size_t(i)], o, d, t.x, t.y);
+            c = glm::vec3(s) + s.w * c;
+            a *= s.w;
+        }
+        ASSERT_EQ(hits, count) << "the centre ray crosses every particle";
+        const glm::vec4 got = image[8 * 16 + 8], bad = wrong[8 * 16 + 8];
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(got[k], c[k], 1e-6f + 1e-5f * c[k]);
+        EXPECT_NEAR(got.w, a, 1e-6f);
+        EXPECT_GT(glm::length(glm::vec3(bad) - c), 0.02f * glm::length(c)) << "the order must matter here";
+    }
+}
+
+// -------------------------------------------------------------------------------------------------------------------
+// The technique
+
+RenderResult renderIsv(const Scene& scene, const std::map<std::string, ParamValue>& values) {
+    IsvTechnique technique;
+    RenderRequest request;
+    request.scene = scene;
+    request.params = technique.defaultParams();
+    for (const auto& [name, value] : values)
+        request.params.set(name, value);
+    return technique.render(request, {});
+}
+
+TEST(IsvTechnique, RefusesWhatItCannotRender) {
+    IsvTechnique t;
+    HomogeneousMedium fog;
+    fog.name = "fog";
+    EXPECT_FALSE(t.supports(fog).supported);
+    PointLight point;
+    point.name = "bulb";
+    EXPECT_NE(t.supports(point).reason.find("perspective volumetric shadow map"), std::string::npos);
+    AreaLight area;
+    area.name = "panel";
+    EXPECT_FALSE(t.supports(area).supported);
+    DirectionalLight gobo;
+    gobo.name = "beam";
+    gobo.gobo = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)};
+    EXPECT_FALSE(t.supports(gobo).supported);
+
+    Scene two = cloudScene(4, false);
+    two.directionalLights.push_back(two.directionalLights.front());
+    two.directionalLights.back().name = "moon";
+    RenderRequest request;
+    request.scene = two;
+    request.params = t.defaultParams();
+    try {
+        t.check(request);
+        ADD_FAILURE() << "two directional lights must be refused";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("one directional light"), std::string::npos) << e.what();
+    }
+}
+
+const Image& referenceImage() {
+    static const Image image = [] {
+        std::unique_ptr<Technique> reference = createTechnique("reference");
+        RenderRequest request;
+        request.scene = cloudScene(60, true);
+        request.params = reference->defaultParams();
+        request.params.set("mode", std::string("single"));
+        request.spp = 1024;
+        request.seed = 5;
+        return reference->render(request, {}).image;
+    }();
+    return image;
+}
+
+// ISV against the path-traced reference (single scattering) on a cloud of 60 particles over a floor with an occluder:
+// the energy bias and relMSE per integration mode. ISV is biased by design; the bounds sit at about 1.3x what was
+// measured (printed), so that a regression in any pass fails while the thesis' own approximations pass.
+TEST(IsvTechnique, AgainstTheReferencePerIntegrationMode) {
+    const Image& ref = referenceImage();
+    struct Row {
+        const char* name;
+        std::string integration;
+        int steps;
+        double maxBias, maxRelMse;
+    };
+    const Row rows[] = {{"simpson 1", "simpson", 1, 2.0, 0.017},
+                        {"simpson 4", "simpson", 4, 1.5, 0.0095},
+                        {"taylor", "taylor", 1, 6.0, 0.082},
+                        {"analytic", "analytic", 1, 2.0, 0.1}};
+    for (const Row& row : rows) {
+        const RenderResult r = renderIsv(cloudScene(60, true), {{"device", std::string("cpu")},
+                                                              {"integration", row.integration},
+                                                              {"steps", std::int64_t(row.steps)},
+                                                              {"supersampling", std::int64_t(2)},
+                                                              {"vsmResolution", std::int64_t(64)}});
+        const Metrics m = computeMetrics(r.image, ref);
+        std::printf("%-10s energy bias %+.2f %%, relMSE %.4g, reference noise %.3g\n", row.name, m.energyBias,
+                    m.relMSE, m.referenceNoiseRelMSE.value_or(0.0));
+        EXPECT_LT(std::abs(m.energyBias), row.maxBias) << row.name;
+        EXPECT_LT(m.relMSE, row.maxRelMse) << row.name;
+    }
+}
+
+}  // namespace
+}  // namespace tyndall::isv::test

@@ -1,0 +1,35 @@
+#version 460
+// ISV particles, fragment stage of the camera pass: the ray's interval through the particle from the proxy's
+// interpolated depths (Eq. 5), clipped by the opaque surface in front of the camera (Sec. 3.15: occlusion of and by
+// opaque objects), shaded by shared/isv.h's isvShade; the blend state composites (C_scat, A) back to front:
+// C = C_scat + A C, alpha = A alpha (Sec. 3.2).
+#extension GL_GOOGLE_include_directive : require
+#include "isv_view.glsl"
+
+layout(std430, set = 0, binding = 0) readonly buffer Particles { IsvParticle particles[]; };
+layout(std430, set = 0, binding = 2) readonly buffer Frame { IsvFrame frame; };
+layout(std430, set = 0, binding = 3) readonly buffer View { IsvView view; };
+layout(std430, set = 0, binding = 4) readonly buffer Vsm { float vsm[]; };
+layout(std430, set = 0, binding = 5) readonly buffer ShadowMap { float shadowMap[]; };
+layout(std430, set = 0, binding = 6) readonly buffer Surfaces { vec4 surfaces[]; };  // (rgb, distance) per pixel
+
+float isvVsmTexel(int i) { return vsm[i]; }
+float isvShadowTexel(int i) { return shadowMap[i]; }
+
+layout(location = 0) noperspective in vec2 q;
+layout(location = 1) flat in uint particle;
+layout(location = 0) out vec4 colour;
+
+void main() {
+    IsvFrame f = frame;
+    CameraParams c = view.camera;
+    int pixel = int(gl_FragCoord.y) * view.width + int(gl_FragCoord.x);
+    vec3 origin, dir;
+    cameraRay(c, gl_FragCoord.x, gl_FragCoord.y, origin, dir);
+    float cosine = dot(dir, c.forward);
+    float ta = 1.0f / (q.x * cosine), tb = 1.0f / (q.y * cosine);
+    float t0 = min(ta, tb), t1 = max(ta, tb);
+    float surface = surfaces[pixel].w;
+    if (t0 >= surface) discard;
+    colour = isvShade(f, particles[particle], origin, dir, t0, min(t1, surface));
+}

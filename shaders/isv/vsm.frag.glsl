@@ -1,0 +1,29 @@
+#version 460
+// ISV's volumetric shadow map, fragment stage: the optical depth of the particle inside one slab along the light ray
+// through this texel (shared/isv.h isvSlabDepth), added to the slab's layer by the blend state. A compute pass then
+// sums the slabs front to back into slices (vsm_sum.comp.glsl).
+#extension GL_GOOGLE_include_directive : require
+#include "isv_view.glsl"
+
+layout(std430, set = 0, binding = 0) readonly buffer Particles { IsvParticle particles[]; };
+layout(std430, set = 0, binding = 2) readonly buffer Frame { IsvFrame frame; };
+
+float isvVsmTexel(int i) { return 0.0f; }
+float isvShadowTexel(int i) { return kInfinity; }
+
+layout(push_constant) uniform Push {
+    int slab;
+    int ordered;
+} push;
+
+layout(location = 0) noperspective in vec2 q;
+layout(location = 1) flat in uint particle;
+layout(location = 0) out float depth;
+
+void main() {
+    IsvLightSpace g = frame.vsm;
+    vec3 origin = g.origin + gl_FragCoord.x * g.texel * g.right + gl_FragCoord.y * g.texel * g.up;
+    float lo = float(push.slab) * g.depthStep;
+    depth = isvSlabDepth(particles[particle], origin, g.forward, min(q.x, q.y), max(q.x, q.y), lo, lo + g.depthStep,
+                         frame.fading);
+}
