@@ -114,6 +114,7 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
     if (best >= 0) {
         info.queueFamily = uint32_t(best);
         info.queueCount = families[best].queueCount;
+        info.graphics = (families[best].queueFlags & VK_QUEUE_GRAPHICS_BIT) != 0;
         if (families[best].timestampValidBits > 0) info.timestampPeriod = props.limits.timestampPeriod;
     }
 
@@ -124,6 +125,9 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
     if (props.apiVersion >= VK_API_VERSION_1_2) features.pNext = &v12;
     vkGetPhysicalDeviceFeatures2(device, &features);
     info.shaderFloat64 = features.features.shaderFloat64 == VK_TRUE;
+    info.geometryShader = features.features.geometryShader == VK_TRUE;
+    info.fragmentStoresAndAtomics = features.features.fragmentStoresAndAtomics == VK_TRUE;
+    info.independentBlend = features.features.independentBlend == VK_TRUE;
     info.timelineSemaphores = v12.timelineSemaphore == VK_TRUE;
     info.descriptorIndexing = v12.runtimeDescriptorArray == VK_TRUE && v12.descriptorBindingPartiallyBound == VK_TRUE;
     std::vector<VkExtensionProperties> extensions = deviceExtensions(device);
@@ -300,6 +304,9 @@ void Context::createDevice(bool rayQuery) {
     VkPhysicalDeviceFeatures2 features{};
     features.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
     features.features.shaderFloat64 = info_.shaderFloat64 ? VK_TRUE : VK_FALSE;
+    features.features.geometryShader = info_.geometryShader ? VK_TRUE : VK_FALSE;
+    features.features.fragmentStoresAndAtomics = info_.fragmentStoresAndAtomics ? VK_TRUE : VK_FALSE;
+    features.features.independentBlend = info_.independentBlend ? VK_TRUE : VK_FALSE;
     if (info_.apiVersion >= VK_API_VERSION_1_2) features.pNext = &v12;
 
     // Ray queries need acceleration structures, which need buffer device addresses.

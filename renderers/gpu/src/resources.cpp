@@ -123,9 +123,87 @@ void Buffer::copyThroughStaging(const void* in, void* out, VkDeviceSize bytes, V
 
 // ---------------------------------------------------------------------------------------------------------------------
 
+StorageDescriptorSets::StorageDescriptorSets(Context& context, std::uint32_t bindingCount, VkShaderStageFlags stages)
+    : context_(context), bindingCount_(bindingCount) {
+    std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
+    for (std::uint32_t i = 0; i < bindingCount; ++i) {
+        bindings[i].binding = i;
+        bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings[i].descriptorCount = 1;
+        bindings[i].stageFlags = stages;
+    }
+    VkDescriptorSetLayoutCreateInfo setInfo{};
+    setInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    setInfo.bindingCount = bindingCount;
+    setInfo.pBindings = bindings.data();
+    check(vkCreateDescriptorSetLayout(context.vk(), &setInfo, nullptr, &layout_), "creating a descriptor set layout");
+}
+
+StorageDescriptorSets::~StorageDescriptorSets() {
+    for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(context_.vk(), pool, nullptr);
+    vkDestroyDescriptorSetLayout(context_.vk(), layout_, nullptr);
+}
+
+constexpr std::uint32_t kSetsPerPool = 64;
+
+void StorageDescriptorSets::growPool() {
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(1u, bindingCount_) * kSetsPerPool};
+    VkDescriptorPoolCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    info.maxSets = kSetsPerPool;
+    info.poolSizeCount = 1;
+    info.pPoolSizes = &size;
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    check(vkCreateDescriptorPool(context_.vk(), &info, nullptr, &pool), "creating a descriptor pool");
+    pools_.push_back(pool);
+    setsInCurrentPool_ = 0;
+}
+
+VkDescriptorSet StorageDescriptorSets::allocate(const std::vector<const Buffer*>& buffers, const std::string& owner) {
+    if (buffers.size() != bindingCount_)
+        throw GpuError(owner + " takes " + std::to_string(bindingCount_) + " buffers, got " +
+                       std::to_string(buffers.size()));
+    if (pools_.empty() || setsInCurrentPool_ == kSetsPerPool) growPool();
+    VkDescriptorSetAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    alloc.descriptorPool = pools_.back();
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &layout_;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    check(vkAllocateDescriptorSets(context_.vk(), &alloc, &set), "allocating a descriptor set");
+    ++setsInCurrentPool_;
+
+    std::vector<VkDescriptorBufferInfo> infos(buffers.size());
+    std::vector<VkWriteDescriptorSet> writes(buffers.size());
+    for (size_t i = 0; i < buffers.size(); ++i) {
+        infos[i] = VkDescriptorBufferInfo{buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+        writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        writes[i].dstSet = set;
+        writes[i].dstBinding = uint32_t(i);
+        writes[i].descriptorCount = 1;
+        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[i].pBufferInfo = &infos[i];
+    }
+    vkUpdateDescriptorSets(context_.vk(), uint32_t(writes.size()), writes.data(), 0, nullptr);
+    return set;
+}
+
+void StorageDescriptorSets::reset() {
+    for (VkDescriptorPool pool : pools_) vkResetDescriptorPool(context_.vk(), pool, 0);
+    // Keep one pool; the others were only needed for the busiest frame.
+    while (pools_.size() > 1) {
+        vkDestroyDescriptorPool(context_.vk(), pools_.back(), nullptr);
+        pools_.pop_back();
+    }
+    setsInCurrentPool_ = 0;
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+
 ComputeKernel::ComputeKernel(Context& context, const std::vector<std::uint32_t>& spirv, std::uint32_t bindingCount,
                              std::uint32_t pushConstantBytes, const std::string& name)
-    : context_(context), name_(name), bindingCount_(bindingCount), pushBytes_(pushConstantBytes) {
+    : context_(context), name_(name), pushBytes_(pushConstantBytes),
+      sets_(context, bindingCount, VK_SHADER_STAGE_COMPUTE_BIT) {
     VkDevice device = context.vk();
     try {
         VkShaderModuleCreateInfo moduleInfo{};
@@ -134,24 +212,12 @@ ComputeKernel::ComputeKernel(Context& context, const std::vector<std::uint32_t>&
         moduleInfo.pCode = spirv.data();
         check(vkCreateShaderModule(device, &moduleInfo, nullptr, &module_), ("creating shader module " + name).c_str());
 
-        std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
-        for (std::uint32_t i = 0; i < bindingCount; ++i) {
-            bindings[i].binding = i;
-            bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            bindings[i].descriptorCount = 1;
-            bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-        }
-        VkDescriptorSetLayoutCreateInfo setInfo{};
-        setInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-        setInfo.bindingCount = bindingCount;
-        setInfo.pBindings = bindings.data();
-        check(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout_), "creating a descriptor set layout");
-
+        const VkDescriptorSetLayout setLayout = sets_.layout();
         VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
         VkPipelineLayoutCreateInfo layoutInfo{};
         layoutInfo.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
         layoutInfo.setLayoutCount = 1;
-        layoutInfo.pSetLayouts = &setLayout_;
+        layoutInfo.pSetLayouts = &setLayout;
         layoutInfo.pushConstantRangeCount = pushConstantBytes > 0 ? 1 : 0;
         layoutInfo.pPushConstantRanges = &range;
         check(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout_), "creating a pipeline layout");
@@ -175,75 +241,24 @@ ComputeKernel::~ComputeKernel() { release(); }
 
 void ComputeKernel::release() {
     VkDevice device = context_.vk();
-    for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(device, pool, nullptr);
-    pools_.clear();
     if (pipeline_) vkDestroyPipeline(device, pipeline_, nullptr);
     if (layout_) vkDestroyPipelineLayout(device, layout_, nullptr);
-    if (setLayout_) vkDestroyDescriptorSetLayout(device, setLayout_, nullptr);
     if (module_) vkDestroyShaderModule(device, module_, nullptr);
     pipeline_ = VK_NULL_HANDLE;
     layout_ = VK_NULL_HANDLE;
-    setLayout_ = VK_NULL_HANDLE;
     module_ = VK_NULL_HANDLE;
-}
-
-constexpr std::uint32_t kSetsPerPool = 64;
-
-void ComputeKernel::growPool() {
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(1u, bindingCount_) * kSetsPerPool};
-    VkDescriptorPoolCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    info.maxSets = kSetsPerPool;
-    info.poolSizeCount = 1;
-    info.pPoolSizes = &size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    check(vkCreateDescriptorPool(context_.vk(), &info, nullptr, &pool), "creating a descriptor pool");
-    pools_.push_back(pool);
-    setsInCurrentPool_ = 0;
 }
 
 void ComputeKernel::record(VkCommandBuffer cmd, const std::vector<const Buffer*>& buffers, const void* push,
                            std::uint32_t groupsX, std::uint32_t groupsY, std::uint32_t groupsZ) {
-    if (buffers.size() != bindingCount_)
-        throw GpuError("kernel " + name_ + " takes " + std::to_string(bindingCount_) + " buffers, got " +
-                       std::to_string(buffers.size()));
-    if (pools_.empty() || setsInCurrentPool_ == kSetsPerPool) growPool();
-    VkDescriptorSetAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    alloc.descriptorPool = pools_.back();
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &setLayout_;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    check(vkAllocateDescriptorSets(context_.vk(), &alloc, &set), "allocating a descriptor set");
-    ++setsInCurrentPool_;
-
-    std::vector<VkDescriptorBufferInfo> infos(buffers.size());
-    std::vector<VkWriteDescriptorSet> writes(buffers.size());
-    for (size_t i = 0; i < buffers.size(); ++i) {
-        infos[i] = VkDescriptorBufferInfo{buffers[i]->handle(), 0, VK_WHOLE_SIZE};
-        writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        writes[i].dstSet = set;
-        writes[i].dstBinding = uint32_t(i);
-        writes[i].descriptorCount = 1;
-        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[i].pBufferInfo = &infos[i];
-    }
-    vkUpdateDescriptorSets(context_.vk(), uint32_t(writes.size()), writes.data(), 0, nullptr);
+    VkDescriptorSet set = sets_.allocate(buffers, "kernel " + name_);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set, 0, nullptr);
     if (pushBytes_ > 0 && push) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
     vkCmdDispatch(cmd, groupsX, groupsY, groupsZ);
 }
 
-void ComputeKernel::resetDescriptors() {
-    for (VkDescriptorPool pool : pools_) vkResetDescriptorPool(context_.vk(), pool, 0);
-    // Keep one pool; the others were only needed for the busiest frame.
-    while (pools_.size() > 1) {
-        vkDestroyDescriptorPool(context_.vk(), pools_.back(), nullptr);
-        pools_.pop_back();
-    }
-    setsInCurrentPool_ = 0;
-}
+void ComputeKernel::resetDescriptors() { sets_.reset(); }
 
 void computeToComputeBarrier(VkCommandBuffer cmd) {
     VkMemoryBarrier barrier{};

@@ -35,6 +35,8 @@ EShLanguage toGlslang(ShaderStage stage) {
             return EShLangCompute;
         case ShaderStage::Vertex:
             return EShLangVertex;
+        case ShaderStage::Geometry:
+            return EShLangGeometry;
         case ShaderStage::Fragment:
             return EShLangFragment;
         case ShaderStage::Mesh:
@@ -122,6 +124,8 @@ const char* stageName(ShaderStage stage) {
             return "comp";
         case ShaderStage::Vertex:
             return "vert";
+        case ShaderStage::Geometry:
+            return "geom";
         case ShaderStage::Fragment:
             return "frag";
         case ShaderStage::Mesh:
@@ -135,8 +139,8 @@ const char* stageName(ShaderStage stage) {
 std::optional<ShaderStage> stageFromPath(const fs::path& path) {
     if (path.extension() != ".glsl") return std::nullopt;
     const std::string inner = path.stem().extension().string();
-    for (ShaderStage stage :
-         {ShaderStage::Compute, ShaderStage::Vertex, ShaderStage::Fragment, ShaderStage::Mesh, ShaderStage::Task}) {
+    for (ShaderStage stage : {ShaderStage::Compute, ShaderStage::Vertex, ShaderStage::Geometry, ShaderStage::Fragment,
+                              ShaderStage::Mesh, ShaderStage::Task}) {
         if (inner == std::string(".") + stageName(stage)) return stage;
     }
     return std::nullopt;
@@ -227,7 +231,7 @@ CompileResult compileGlsl(const fs::path& path, const std::vector<fs::path>& inc
     if (!stage) {
         return failure(path.string(),
                        "cannot tell the shader stage from the file name (expected *.comp.glsl, *.vert.glsl, "
-                       "*.frag.glsl, *.mesh.glsl or *.task.glsl)");
+                       "*.geom.glsl, *.frag.glsl, *.mesh.glsl or *.task.glsl)");
     }
     const std::optional<std::string> source = readFile(path);
     if (!source) {

@@ -64,6 +64,7 @@ std::string scaleShader(const std::string& factor, const std::string& extraInclu
 TEST(ShaderCompiler, InfersTheStageFromTheFileName) {
     EXPECT_EQ(stageFromPath("a/blur.comp.glsl"), ShaderStage::Compute);
     EXPECT_EQ(stageFromPath("quad.vert.glsl"), ShaderStage::Vertex);
+    EXPECT_EQ(stageFromPath("proxy.geom.glsl"), ShaderStage::Geometry);
     EXPECT_EQ(stageFromPath("quad.frag.glsl"), ShaderStage::Fragment);
     EXPECT_EQ(stageFromPath("proxy.mesh.glsl"), ShaderStage::Mesh);
     EXPECT_EQ(stageFromPath("cull.task.glsl"), ShaderStage::Task);

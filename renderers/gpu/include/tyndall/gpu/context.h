@@ -47,6 +47,11 @@ struct DeviceInfo {
     bool rayQuery = false;            // VK_KHR_ray_query + acceleration structures
     bool meshShader = false;          // VK_EXT_mesh_shader
     bool descriptorIndexing = false;  // runtime descriptor arrays, partially bound
+    // Graphics pipelines (gpu/graphics.h); each is enabled on the device when it has it.
+    bool graphics = false;                  // the queue family also does graphics
+    bool geometryShader = false;
+    bool fragmentStoresAndAtomics = false;  // storage buffer writes from fragment shaders
+    bool independentBlend = false;          // a blend state per colour attachment
     std::string typeName() const;
 };
 

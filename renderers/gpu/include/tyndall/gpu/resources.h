@@ -63,6 +63,31 @@ std::unique_ptr<Buffer> uploadBuffer(Context& context, const std::vector<T>& val
     return buffer;
 }
 
+// Set 0 of a pipeline: `bindingCount` storage buffers (binding i = buffers[i]) visible to `stages`, and descriptor sets
+// for it from pools that grow when the busiest frame needs more (ComputeKernel and GraphicsPipeline).
+class StorageDescriptorSets {
+public:
+    StorageDescriptorSets(Context& context, std::uint32_t bindingCount, VkShaderStageFlags stages);
+    ~StorageDescriptorSets();
+    StorageDescriptorSets(const StorageDescriptorSets&) = delete;
+    StorageDescriptorSets& operator=(const StorageDescriptorSets&) = delete;
+
+    VkDescriptorSetLayout layout() const { return layout_; }
+    // A set holding `buffers`; throws GpuError naming `owner` when their number is not bindingCount.
+    VkDescriptorSet allocate(const std::vector<const Buffer*>& buffers, const std::string& owner);
+    // Frees every set; only once the command buffers that used them have completed.
+    void reset();
+
+private:
+    void growPool();
+
+    Context& context_;
+    std::uint32_t bindingCount_;
+    VkDescriptorSetLayout layout_ = VK_NULL_HANDLE;
+    std::vector<VkDescriptorPool> pools_;
+    std::uint32_t setsInCurrentPool_ = 0;
+};
+
 // A compute pipeline whose set 0 holds `bindingCount` storage buffers (binding i = buffers[i]) and whose push constant
 // block has `pushConstantBytes` bytes.
 class ComputeKernel {
@@ -81,18 +106,15 @@ public:
     const std::string& name() const { return name_; }
 
 private:
-    void growPool();
     void release();  // destroys the Vulkan objects created so far
 
     Context& context_;
     std::string name_;
-    std::uint32_t bindingCount_, pushBytes_;
+    std::uint32_t pushBytes_;
+    StorageDescriptorSets sets_;
     VkShaderModule module_ = VK_NULL_HANDLE;
-    VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
     VkPipeline pipeline_ = VK_NULL_HANDLE;
-    std::vector<VkDescriptorPool> pools_;
-    std::uint32_t setsInCurrentPool_ = 0;
 };
 
 // A barrier that makes compute-shader writes visible to later compute reads and host reads.

@@ -14,9 +14,9 @@
 
 namespace tyndall::gpu {
 
-enum class ShaderStage { Compute, Vertex, Fragment, Mesh, Task };
+enum class ShaderStage { Compute, Vertex, Geometry, Fragment, Mesh, Task };
 
-// "comp", "vert", "frag", "mesh", "task": the stage's part of a file name.
+// "comp", "vert", "geom", "frag", "mesh", "task": the stage's part of a file name.
 const char* stageName(ShaderStage stage);
 
 // The stage of a file named <name>.<stage>.glsl (e.g. "blur.comp.glsl"); nullopt for any other name.
