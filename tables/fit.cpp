@@ -52,16 +52,17 @@ double minimise(const F& f, double lo, double hi, double step) {
 // fixed quasi-random samples (stratified in the polar CDF, golden-ratio azimuths) and Fibonacci-sphere directions.
 class SlicedWasserstein {
 public:
-    SlicedWasserstein(double g, int source, const FitSettings& s) : source_(source), n_(s.swSamples) {
+    // targetZ(j, n): z of the target's sample j of n, stratified in its polar CDF.
+    template <typename TargetZ>
+    SlicedWasserstein(const TargetZ& targetZ, int source, const FitSettings& s) : source_(source), n_(s.swSamples) {
         const int k = s.swDirections;
         for (int i = 0; i < k; ++i) {
             const double z = 1.0 - (2.0 * i + 1.0) / k, r = std::sqrt(std::max(0.0, 1.0 - z * z));
             const double phi = 2.39996322972865332 * i;
             directions_.push_back(glm::dvec3(r * std::cos(phi), r * std::sin(phi), z));
         }
-        const double aU = hgUpperAmplitude(g);
         std::vector<glm::dvec3> target(static_cast<size_t>(n_));
-        for (int j = 0; j < n_; ++j) target[size_t(j)] = direction(-hgInverseCdf(g, aU * (j + 0.5) / n_), j);
+        for (int j = 0; j < n_; ++j) target[size_t(j)] = direction(targetZ(j, n_), j);
         for (const glm::dvec3& d : directions_) {
             std::vector<double> p(static_cast<size_t>(n_));
             for (int j = 0; j < n_; ++j) p[size_t(j)] = glm::dot(target[size_t(j)], d);
@@ -106,10 +107,47 @@ private:
     std::vector<glm::dvec3> sourceSamples_;
 };
 
+// z of sample j of n of a lobe's hemisphere (side +1: upper, mu = -z; -1: lower mirrored, mu = z), stratified in the
+// lobe's CDF restricted to the hemisphere and inverted by bisection in mu (deterministic, to double precision).
+double lobeHemisphereZ(const std::string& type, int side, int j, int n) {
+    const double f0 = ltsdLobeCdf(type, 0.0, 0.0);
+    const double u = (j + 0.5) / n;
+    const double target = side > 0 ? u * f0 : f0 + u * (1.0 - f0);
+    double lo = side > 0 ? -1.0 : 0.0, hi = side > 0 ? 0.0 : 1.0;
+    for (int i = 0; i < 80; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        if (ltsdLobeCdf(type, 0.0, mid) < target)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return double(-side) * 0.5 * (lo + hi);
+}
+
+struct ScaleFit {
+    double m;
+    double loss;
+};
+
+// Fits M = diag(m, m, 1) for one hemisphere of a parameterless lobe with the given source.
+ScaleFit fitLobeScale(const std::string& type, int side, int source, const FitSettings& settings) {
+    if (settings.loss == "tv") {
+        const auto f = [&](double y) { return ltsdLobeTotalVariation(type, 0.0, side, source, std::exp(y)); };
+        const double y = minimise(f, -12.0, 6.0, 0.05);
+        return {std::exp(y), f(y)};
+    }
+    if (settings.loss == "sw") {
+        const SlicedWasserstein f([&](int j, int n) { return lobeHemisphereZ(type, side, j, n); }, source, settings);
+        const double y = minimise(f, -12.0, 6.0, 0.25);
+        return {std::exp(y), f(y)};
+    }
+    throw InputError(InputLocation{"", 0, 0, "--loss"}, "'" + settings.loss + "' is not a loss: tv or sw");
+}
+
 }  // namespace
 
 nlohmann::json settingsToJson(const FitSettings& s) {
-    nlohmann::json j = {{"loss", s.loss}, {"entriesPerHalf", s.entriesPerHalf}, {"gMax", s.gMax}};
+    nlohmann::json j = {{"phase", s.phase}, {"loss", s.loss}, {"entriesPerHalf", s.entriesPerHalf}, {"gMax", s.gMax}};
     if (s.loss == "sw") j["swSamples"] = s.swSamples, j["swDirections"] = s.swDirections;
     return j;
 }
@@ -119,11 +157,32 @@ double fitEntryScale(double g, int source, const FitSettings& settings) {
     if (settings.loss == "tv")
         return std::exp(minimise([&](double y) { return ltsdTotalVariation(g, source, std::exp(y)); }, -12.0, 6.0,
                                  0.05));
-    if (settings.loss == "sw") return std::exp(minimise(SlicedWasserstein(g, source, settings), -12.0, 6.0, 0.25));
+    if (settings.loss == "sw") {
+        const double aU = hgUpperAmplitude(g);
+        const auto targetZ = [&](int j, int n) { return -hgInverseCdf(g, aU * (j + 0.5) / n); };
+        return std::exp(minimise(SlicedWasserstein(targetZ, source, settings), -12.0, 6.0, 0.25));
+    }
     throw InputError(InputLocation{"", 0, 0, "--loss"}, "'" + settings.loss + "' is not a loss: tv or sw");
 }
 
 shader::LtsdEntry fitEntry(int index, const FitSettings& settings) {
+    if (settings.phase != "hg") {
+        // A parameterless lobe: entry 0 fits its upper hemisphere, entry 1 its lower one mirrored (the T of
+        // M_l = diag(1, 1, -1) T). Both sources are fitted; the one with the smaller loss is kept.
+        TY_CHECK(index == 0 || index == 1, "a parameterless table has two entries");
+        const int side = index == 0 ? 1 : -1;
+        const ScaleFit clamped = fitLobeScale(settings.phase, side, shader::kLtsdSourceClampedCosine, settings);
+        const ScaleFit inverse = fitLobeScale(settings.phase, side, shader::kLtsdSourceInverseClampedCosine, settings);
+        const bool useClamped = clamped.loss <= inverse.loss;
+        const float m = float(useClamped ? clamped.m : inverse.m);
+        const double upperShare = ltsdLobeCdf(settings.phase, 0.0, 0.0);
+        shader::LtsdEntry e{};
+        e.m[0] = m, e.m[4] = m, e.m[8] = 1.0f;
+        e.amplitude = float(ltsdLobeWeight(settings.phase) * (side > 0 ? upperShare : 1.0 - upperShare));
+        e.source = useClamped ? shader::kLtsdSourceClampedCosine : shader::kLtsdSourceInverseClampedCosine;
+        e.g = 0.0f;
+        return e;
+    }
     LtsdTable layout;
     layout.entriesPerHalf = settings.entriesPerHalf;
     layout.gMax = settings.gMax;
@@ -141,7 +200,7 @@ shader::LtsdEntry fitEntry(int index, const FitSettings& settings) {
 
 std::vector<shader::LtsdEntry> fitEntries(const FitSettings& settings, const std::vector<int>& indices,
                                           const std::function<void(int, int)>& progress) {
-    const int total = 2 * settings.entriesPerHalf;
+    const int total = settings.phase == "hg" ? 2 * settings.entriesPerHalf : 2;
     std::vector<int> todo = indices;
     if (todo.empty())
         for (int i = 0; i < total; ++i) todo.push_back(i);

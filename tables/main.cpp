@@ -42,7 +42,10 @@ nlohmann::json errorSummary(const LtsdTable& table) {
     double maxTv = 0.0, sumTv = 0.0;
     for (int i = 0; i < int(table.entries.size()); ++i) {
         const shader::LtsdEntry& e = table.entries[size_t(i)];
-        const double tv = ltsdTotalVariation(table.entryG(i), e.source, double(e.m[0]) / double(e.m[8]));
+        const double tv = table.parameterless()
+                              ? ltsdLobeTotalVariation(table.phase, 0.0, i == 0 ? 1 : -1, e.source,
+                                                       double(e.m[0]) / double(e.m[8]))
+                              : ltsdTotalVariation(table.entryG(i), e.source, double(e.m[0]) / double(e.m[8]));
         maxTv = std::max(maxTv, tv);
         sumTv += tv;
     }
@@ -59,11 +62,15 @@ nlohmann::json errorSummary(const LtsdTable& table) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"tyndall-fit-tables: fit the LTSD tables of Henyey-Greenstein (docs/tables.md)"};
+    CLI::App app{"tyndall-fit-tables: fit the LTSD tables of Henyey-Greenstein and of the lobes of Rayleigh and the Mie "
+                 "presets (docs/tables.md)"};
     tables::FitSettings settings;
     std::string out, check;
     bool quick = false;
     app.add_option("--out,-o", out, "the table to write (its provenance goes to <out>.json)");
+    app.add_option("--phase", settings.phase,
+                   "hg (a table over g), or a parameterless lobe: rayleigh, hazy-mie, murky-mie (docs/tables.md)")
+        ->check(CLI::IsMember({"hg", "rayleigh", "hazy-mie", "murky-mie"}));
     app.add_option("--loss", settings.loss, "sw (sliced Wasserstein, 002 Sec. 4; the default) or tv (total variation)")
         ->check(CLI::IsMember({"tv", "sw"}));
     app.add_option("--entries", settings.entriesPerHalf, "entries per half of the table (T_1, T_2)")
@@ -86,15 +93,12 @@ int main(int argc, char** argv) {
     }
     try {
         std::vector<int> indices;
-        const int n = settings.entriesPerHalf;
-        if (quick)
-            for (int i = 0; i < 2 * n; ++i)
-                if (i % 16 == 0 || i == n - 1 || i == 2 * n - 1) indices.push_back(i);
         LtsdTable reference;
         if (!check.empty()) {
             reference = loadLtsdTable(check);
             if (reference.provenance.contains("settings")) {
                 const nlohmann::json& s = reference.provenance["settings"];
+                settings.phase = s.value("phase", settings.phase);
                 settings.loss = s.value("loss", settings.loss);
                 settings.entriesPerHalf = s.value("entriesPerHalf", settings.entriesPerHalf);
                 settings.gMax = s.value("gMax", settings.gMax);
@@ -102,6 +106,11 @@ int main(int argc, char** argv) {
                 settings.swDirections = s.value("swDirections", settings.swDirections);
             }
         }
+        if (settings.phase != "hg") settings.entriesPerHalf = 1, settings.gMax = 0.0f;
+        const int n = settings.entriesPerHalf;
+        if (quick && n > 1)
+            for (int i = 0; i < 2 * n; ++i)
+                if (i % 16 == 0 || i == n - 1 || i == 2 * n - 1) indices.push_back(i);
         const bool terminal = isatty(fileno(stderr));
         const auto start = std::chrono::steady_clock::now();
         int lastReported = -1;
@@ -109,8 +118,8 @@ int main(int argc, char** argv) {
             if (done == lastReported) return;  // a line per finished entry, not per poll, when logged to a file
             lastReported = done;
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            std::fprintf(stderr, "%sfitting hg (%s): %d / %d entries, %.1f s%s", terminal ? "\r" : "",
-                         settings.loss.c_str(), done, total, seconds, terminal && done < total ? "" : "\n");
+            std::fprintf(stderr, "%sfitting %s (%s): %d / %d entries, %.1f s%s", terminal ? "\r" : "",
+                         settings.phase.c_str(), settings.loss.c_str(), done, total, seconds, terminal && done < total ? "" : "\n");
         };
         const std::vector<shader::LtsdEntry> entries = tables::fitEntries(settings, indices, progress);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -136,7 +145,7 @@ int main(int argc, char** argv) {
         }
 
         LtsdTable table;
-        table.phase = "hg";
+        table.phase = settings.phase;
         table.entriesPerHalf = n;
         table.gMax = settings.gMax;
         table.entries = entries;
@@ -144,7 +153,7 @@ int main(int argc, char** argv) {
         for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
         table.provenance = {
             {"format", "docs/tables.md"},
-            {"phase", "hg"},
+            {"phase", settings.phase},
             {"command", command},
             {"seed", 0},
             {"seedNote", "the fit draws no random numbers (fixed quadrature, fixed quasi-random samples)"},
@@ -159,8 +168,10 @@ int main(int argc, char** argv) {
             {"date", utcNow()},
             {"fitter", "tyndall-fit-tables " TYNDALL_VERSION},
         };
-        if (!quick) table.provenance["errorSummary"] = errorSummary(table);
-        if (quick) {  // a partial table cannot be loaded (zero matrices): fill the gaps by copying, and say so
+        const bool partial = quick && n > 1;
+        table.provenance["partial"] = partial;
+        if (!partial) table.provenance["errorSummary"] = errorSummary(table);
+        if (partial) {  // a partial table cannot be loaded (zero matrices): fill the gaps by copying, and say so
             for (int i = 0; i < 2 * n; ++i)
                 if (table.entries[size_t(i)].m[8] == 0.0f) {
                     int j = i;

@@ -420,7 +420,8 @@ TEST(Cli, TablesPrintsProvenanceAndEvaluatesAPolygon) {
         std::string args, expected;
     };
     const Case cases[] = {
-        {"tables eval --phase '{\"type\":\"rayleigh\"}' --polygon " + polygon, "no LTSD table for 'rayleigh'"},
+        {"tables eval --phase '{\"type\":\"legendre\"}' --polygon " + polygon, "cannot take 'legendre'"},
+        {"tables eval --phase '{\"type\":\"rayleigh\",\"g\":0.3}' --polygon " + polygon, "unknown key for rayleigh"},
         {"tables eval --phase '{\"type\":\"hg\",\"g\":1.5}' --polygon " + polygon, "--phase.g"},
         {"tables eval --phase '{\"type\":\"hg\"' --polygon " + polygon, "not valid JSON"},
         {"tables eval --phase '{\"type\":\"hg\"}' --polygon '[[0,0,1],[1,0,0]]'", "3 to 9 directions"},

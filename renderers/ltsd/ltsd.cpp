@@ -77,9 +77,10 @@ std::vector<ParamInfo> LtsdTechnique::parameters() const {
 }
 
 Support LtsdTechnique::supports(const HomogeneousMedium& medium) const {
-    if (medium.phase.kind != PhaseKind::HenyeyGreenstein && medium.phase.kind != PhaseKind::Isotropic)
+    const std::string refusal = ltsdPhaseRefusal(toString(medium.phase.kind));
+    if (!refusal.empty())
         return Support::no(std::string("the medium '") + medium.name + "' has a " + toString(medium.phase.kind) +
-                           " phase function; LTSD tables are fitted for Henyey-Greenstein (and isotropic) only");
+                           " phase function: " + refusal);
     if (medium.shape == MediumShape::ConvexPolyhedron && int(medium.planes.size()) > shader::kLtsdMaxPlanes)
         return Support::no("the medium '" + medium.name + "' has more than " + std::to_string(shader::kLtsdMaxPlanes) +
                            " faces");
@@ -287,7 +288,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
     meta["device"] = deviceName;
     meta["nonFiniteSamples"] = std::to_string(nonFinite);
     if (scene.frame.hasMedium != 0) {
-        meta["ltsd:table"] = scene.tablePath;
+        meta["ltsd:table"] = scene.tablePath.empty() ? "none (exact)" : scene.tablePath;
         meta["ltsd:g"] = formatDouble(scene.g);
     }
     meta["ltsd:shadows"] = shadows ? ltsd::shadowNames()[std::size_t(settings.shadows)] : "off";

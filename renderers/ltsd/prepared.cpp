@@ -75,13 +75,14 @@ Settings settingsFrom(const ParamSet& params) {
     return s;
 }
 
-double hgAsymmetry(const HomogeneousMedium& medium) {
-    if (medium.phase.kind == PhaseKind::HenyeyGreenstein) return medium.phase.g;
-    if (medium.phase.kind == PhaseKind::Isotropic) return 0.0;
-    throw InputError(InputLocation{"", 0, 0, "media[" + medium.name + "].phase"},
-                     std::string("the LTSD technique has fitted tables for Henyey-Greenstein (and isotropic, its g = "
-                                 "0) only; the medium '") +
-                         medium.name + "' has the phase function " + toString(medium.phase.kind));
+LtsdPhase ltsdPhaseOf(const HomogeneousMedium& medium) {
+    const std::string type = toString(medium.phase.kind);
+    const std::string refusal = ltsdPhaseRefusal(type);
+    if (!refusal.empty())
+        throw InputError(InputLocation{"", 0, 0, "media[" + medium.name + "].phase"},
+                         "the LTSD technique cannot render the medium '" + medium.name + "' with the phase function " +
+                             type + ": " + refusal);
+    return LtsdPhase{type, medium.phase.g, medium.phase.a, medium.phase.b};
 }
 
 PreparedScene prepareScene(const Scene& scene, const Settings& settings, const std::string& projectDir) {
@@ -121,8 +122,12 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     if (!scene.media.empty()) {
         const HomogeneousMedium& m = scene.media.front();
         const std::string field = "media[" + m.name + "]";
-        p.g = hgAsymmetry(m);
+        const LtsdPhase phase = ltsdPhaseOf(m);
+        p.g = phase.g;
         f.g = float(p.g);
+        f.phaseKind = toPhaseParams(m.phase).kind;
+        f.phaseA = float(phase.a);
+        f.phaseB = float(phase.b);
         f.hasMedium = 1;
         f.sigmaS = glm::vec3(m.sigma_s);
         f.sigmaT = glm::vec3(m.sigma_t());
@@ -140,11 +145,18 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
                 p.planes.emplace_back(glm::vec3(n), float(h.offset / glm::length(h.normal)));
             }
         }
-        const std::string path = ltsdTablePath("hg").string();
-        const LtsdTable table = loadLtsdTable(path);
-        f.upper = table.upper(p.g);
-        f.lower = table.lower(p.g);
-        p.tablePath = path;
+        // Isotropic and Eddington are exact (no table); the others read the table of their lobe.
+        const std::string tableType = ltsdTableFor(phase.type);
+        LtsdTable table;
+        if (!tableType.empty()) {
+            p.tablePath = ltsdTablePath(tableType).string();
+            table = loadLtsdTable(p.tablePath);
+        }
+        const LtsdPhaseTerms terms = ltsdPhaseTerms(phase, tableType.empty() ? nullptr : &table);
+        f.upper = terms.upper;
+        f.lower = terms.lower;
+        f.phaseIsotropic = terms.isotropic;
+        f.phaseLinear = terms.linear;
     }
     f.planeCount = int(p.planes.size());
     if (p.planes.empty()) p.planes.emplace_back(0.0f);

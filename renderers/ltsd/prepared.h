@@ -6,6 +6,7 @@
 #include "src/gpu_surfaces.h"
 
 #include "shared/ltsd_scene.h"
+#include "tyndall/ltsd_table.h"
 #include "tyndall/params.h"
 #include "tyndall/scene.h"
 
@@ -43,13 +44,14 @@ struct PreparedScene {
     std::vector<glm::vec4> planes;          // the medium's half-spaces (n, offset); never empty
     GpuSurfaces surfaces;
     bool anyTwoSided = false;
-    double g = 0.0;         // the medium's HG asymmetry (0 for isotropic)
-    std::string tablePath;  // the LTSD table the frame's entries come from ("" without a medium)
+    double g = 0.0;         // the medium's HG (or mix) asymmetry (0 for the others)
+    std::string tablePath;  // the LTSD table the frame's entries come from ("" without a medium, or exact: isotropic,
+                            // eddington)
 };
 
-// The Henyey-Greenstein g that stands for a phase function the technique supports (isotropic: 0); throws InputError
-// for the others.
-double hgAsymmetry(const HomogeneousMedium& medium);
+// The medium's phase function as the LTSD tables see it; throws InputError (with ltsdPhaseRefusal's reason) for one
+// the technique cannot render.
+LtsdPhase ltsdPhaseOf(const HomogeneousMedium& medium);
 
 // Throws InputError for scene content the technique cannot render or that is inconsistent: more than one medium, too
 // many lights, a table that is missing or corrupt.

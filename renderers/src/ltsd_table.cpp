@@ -75,11 +75,125 @@ double hgUpperDensityX(double g, double x) {
     return 2.0 * kPi * s2 * c * LtsdPhase{"hg", g}.eval(-c) / hgUpperAmplitude(g);
 }
 
+double hgEval(double g, double mu) {
+    const double d = 1.0 + g * g - 2.0 * g * mu;
+    return (1.0 - g * g) / (4.0 * kPi * d * std::sqrt(d));
+}
+
+int mieExponent(const std::string& type) {
+    return type == "hazy-mie" ? 8 : 32;
+}
+
+bool isMie(const std::string& type) {
+    return type == "hazy-mie" || type == "murky-mie";
+}
+
 }  // namespace
 
 double LtsdPhase::eval(double mu) const {
-    const double d = 1.0 + g * g - 2.0 * g * mu;
-    return (1.0 - g * g) / (4.0 * kPi * d * std::sqrt(d));
+    if (type == "hg") return hgEval(g, mu);
+    if (type == "isotropic") return 1.0 / (4.0 * kPi);
+    if (type == "mix") return (1.0 - a) / (4.0 * kPi) + a * hgEval(g, mu);
+    if (type == "eddington") return (1.0 + b * mu) / (4.0 * kPi);
+    if (type == "rayleigh" || isMie(type))
+        return (1.0 - ltsdLobeWeight(type)) / (4.0 * kPi) + ltsdLobeWeight(type) * ltsdLobeEval(type, g, mu);
+    TY_CHECK(false, "LtsdPhase: unknown phase type " + type);
+    return 0.0;
+}
+
+std::string ltsdTableFor(const std::string& type) {
+    if (type == "hg" || type == "mix") return "hg";
+    if (type == "rayleigh" || isMie(type)) return type;
+    if (type == "isotropic" || type == "eddington") return "";
+    throw InputError(InputLocation{"", 0, 0, "phase.type"},
+                     "'" + type + "' has no LTSD form (tables exist for hg, mix, rayleigh, hazy-mie, murky-mie; "
+                     "isotropic and eddington are exact)");
+}
+
+double ltsdLobeEval(const std::string& type, double g, double mu) {
+    if (type == "hg") return hgEval(g, mu);
+    if (type == "rayleigh") return 3.0 * mu * mu / (4.0 * kPi);
+    TY_CHECK(isMie(type), "no lobe for " + type);
+    const int n = mieExponent(type);
+    return double(n + 1) * std::pow(std::max(0.0, 0.5 * (1.0 + mu)), n) / (4.0 * kPi);
+}
+
+double ltsdLobeCdf(const std::string& type, double g, double mu) {
+    if (type == "hg") {
+        if (std::abs(g) < 1e-6) return 0.5 * (1.0 + mu);
+        return (1.0 - g * g) / (2.0 * g) * (1.0 / std::sqrt(1.0 + g * g - 2.0 * g * mu) - 1.0 / (1.0 + g));
+    }
+    if (type == "rayleigh") return 0.5 * (mu * mu * mu + 1.0);
+    TY_CHECK(isMie(type), "no lobe for " + type);
+    return std::pow(std::max(0.0, 0.5 * (1.0 + mu)), mieExponent(type) + 1);
+}
+
+double ltsdLobeWeight(const std::string& type) {
+    if (type == "hg") return 1.0;
+    if (type == "rayleigh") return 0.25;
+    TY_CHECK(isMie(type), "no lobe for " + type);
+    return 0.5;
+}
+
+namespace {
+
+// The lobe's density in x = ln tan(theta) over one hemisphere (side +1: upper, mu = -cos; -1: lower mirrored, mu = cos),
+// normalised to 1 like sourceDensityX.
+double lobeDensityX(const std::string& type, double g, int side, double amplitude, double x) {
+    const double t2 = std::exp(2.0 * x);
+    const double s2 = t2 / (1.0 + t2);
+    const double c = 1.0 / std::sqrt(1.0 + t2);
+    return 2.0 * kPi * s2 * c * ltsdLobeEval(type, g, -double(side) * c) / amplitude;
+}
+
+}  // namespace
+
+double LtsdTable::isotropicWeight() const {
+    if (!parameterless()) return 0.0;
+    return std::max(0.0, 1.0 - double(entries[0].amplitude) - double(entries[1].amplitude));
+}
+
+LtsdPhaseTerms ltsdPhaseTerms(const LtsdPhase& phase, const LtsdTable* table) {
+    LtsdPhaseTerms t;
+    const std::string tableType = ltsdTableFor(phase.type);
+    if (phase.type == "isotropic") {
+        t.isotropic = 1.0f;
+        return t;
+    }
+    if (phase.type == "eddington") {
+        t.isotropic = 1.0f;
+        t.linear = float(phase.b);
+        return t;
+    }
+    TY_CHECK(table != nullptr && table->phase == tableType, "ltsdPhaseTerms needs the " + tableType + " table");
+    t.upper = table->upper(phase.g);
+    t.lower = table->lower(phase.g);
+    t.isotropic = float(table->isotropicWeight());
+    if (phase.type == "mix") {
+        t.upper.amplitude *= float(phase.a);
+        t.lower.amplitude *= float(phase.a);
+        t.isotropic = float(1.0 - phase.a);
+    }
+    return t;
+}
+
+std::string ltsdPhaseRefusal(const std::string& type) {
+    for (const LtsdPhaseQuality& q : kLtsdPhaseQuality) {
+        if (type != q.type) continue;
+        if (q.maxAbs <= kLtsdAcceptedMaxAbs && q.meanAbs <= kLtsdAcceptedMeanAbs) return "";
+        char text[320];
+        std::snprintf(text, sizeof text,
+                      "its LTSD fit's error over the test polygons (max %.3g, mean %.3g absolute) exceeds the "
+                      "threshold (max %.3g, mean %.3g: the HG table's worst; docs/tables.md)",
+                      q.maxAbs, q.meanAbs, kLtsdAcceptedMaxAbs, kLtsdAcceptedMeanAbs);
+        return text;
+    }
+    return "it has no LTSD form (tables exist for hg, mix, rayleigh, hazy-mie and murky-mie; isotropic and "
+           "eddington are exact)";
+}
+
+double ltsdPhaseIntegral(const LtsdPhaseTerms& t, const shader::SphericalPolygon& polygon) {
+    return double(shader::ltsdPhaseIntegral(polygon, t.upper, t.lower, t.isotropic, t.linear));
 }
 
 double hgUpperAmplitude(double g) {
@@ -97,26 +211,30 @@ double LtsdTable::entryG(int i) const {
 }
 
 shader::LtsdEntry LtsdTable::upper(double g) const {
+    if (parameterless()) return entries[0];
     const shader::LtsdFetch f = shader::ltsdFetchUpper(float(g), entriesPerHalf, gMax);
     return shader::ltsdLerp(entries[size_t(f.i0)], entries[size_t(f.i1)], f.w);
 }
 
 shader::LtsdEntry LtsdTable::lower(double g) const {
+    if (parameterless()) return entries[1];
     const shader::LtsdFetch f = shader::ltsdFetchLower(float(g), entriesPerHalf, gMax);
     return shader::ltsdLerp(entries[size_t(f.i0)], entries[size_t(f.i1)], f.w);
 }
 
 double LtsdTable::integral(const shader::SphericalPolygon& polygon, double g) const {
-    return double(shader::ltsdS(polygon, upper(g), lower(g)));
+    return double(shader::ltsdPhaseIntegral(polygon, upper(g), lower(g), float(isotropicWeight()), 0.0f));
 }
 
 double LtsdTable::density(const glm::dvec3& w, double g) const {
+    const double isotropic = isotropicWeight() / (4.0 * kPi);
     if (w.z >= 0.0) {
         const shader::LtsdEntry e = upper(g);
-        return double(e.amplitude) * double(shader::ltsdEval(e, glm::vec3(w)));
+        return isotropic + double(e.amplitude) * double(shader::ltsdEval(e, glm::vec3(w)));
     }
     const shader::LtsdEntry e = lower(g);
-    return double(e.amplitude) * double(shader::ltsdEval(e, glm::vec3(float(w.x), float(w.y), float(-w.z))));
+    return isotropic +
+           double(e.amplitude) * double(shader::ltsdEval(e, glm::vec3(float(w.x), float(w.y), float(-w.z))));
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
@@ -133,8 +251,8 @@ std::uint64_t ltsdTableChecksum(const std::vector<std::uint8_t>& fileBytes) {
 }
 
 void saveLtsdTable(const LtsdTable& table, const std::filesystem::path& file) {
-    TY_CHECK(table.entriesPerHalf >= 2 && table.entries.size() == size_t(2 * table.entriesPerHalf),
-             "an LTSD table needs 2n entries, n >= 2");
+    TY_CHECK(table.entriesPerHalf >= 1 && table.entries.size() == size_t(2 * table.entriesPerHalf),
+             "an LTSD table needs 2n entries, n >= 1");
     TY_CHECK(table.phase.size() < 16, "phase type too long for the header");
     std::vector<std::uint8_t> bytes(kHeaderBytes + kEntryBytes * table.entries.size(), 0);
     std::memcpy(bytes.data(), kMagic, sizeof kMagic);
@@ -173,7 +291,7 @@ LtsdTable loadLtsdTable(const std::filesystem::path& file) {
     const auto entryBytes = get<std::uint32_t>(bytes, 16);
     const auto payloadBytes = get<std::uint64_t>(bytes, 40);
     if (entryBytes != kEntryBytes) throw fail("header.entryBytes", "must be 48, got " + std::to_string(entryBytes));
-    if (n < 2 || n > 65536) throw fail("header.entriesPerHalf", "must be in [2, 65536], got " + std::to_string(n));
+    if (n < 1 || n > 65536) throw fail("header.entriesPerHalf", "must be in [1, 65536], got " + std::to_string(n));
     if (payloadBytes != std::uint64_t(2) * n * kEntryBytes || bytes.size() != kHeaderBytes + payloadBytes)
         throw fail("payload", "truncated or padded: " + std::to_string(bytes.size()) + " bytes, the header implies " +
                                   std::to_string(kHeaderBytes + std::uint64_t(2) * n * kEntryBytes));
@@ -189,8 +307,10 @@ LtsdTable loadLtsdTable(const std::filesystem::path& file) {
     char phase[17] = {};
     std::memcpy(phase, bytes.data() + 24, 16);
     table.phase = phase;
-    if (!(table.gMax > 0.0f && table.gMax <= 1.0f))
+    if (n >= 2 && !(table.gMax > 0.0f && table.gMax <= 1.0f))
         throw fail("header.gMax", "must be in (0, 1], got " + std::to_string(table.gMax));
+    if (n == 1 && table.gMax != 0.0f)
+        throw fail("header.gMax", "must be 0 in a parameterless table (n = 1), got " + std::to_string(table.gMax));
     table.entries.resize(size_t(2) * n);
     std::memcpy(table.entries.data(), bytes.data() + kHeaderBytes, payloadBytes);
     for (size_t i = 0; i < table.entries.size(); ++i) {
@@ -206,7 +326,9 @@ LtsdTable loadLtsdTable(const std::filesystem::path& file) {
         if (!(e.amplitude >= 0.0f && e.amplitude <= 1.0f))
             throw fail(field + ".amplitude", "must be in [0, 1], got " + std::to_string(e.amplitude));
         const int expectedSource = i < n ? shader::kLtsdSourceClampedCosine : shader::kLtsdSourceInverseClampedCosine;
-        if (e.source != expectedSource)
+        if (n == 1 && e.source != shader::kLtsdSourceClampedCosine && e.source != shader::kLtsdSourceInverseClampedCosine)
+            throw fail(field + ".source", "must be 0 or 1, got " + std::to_string(e.source));
+        if (n >= 2 && e.source != expectedSource)
             throw fail(field + ".source", "must be " + std::to_string(expectedSource) + " in this half of the table");
     }
 
@@ -282,19 +404,41 @@ double ltsdTotalVariation(double g, int source, double m) {
     return sum;
 }
 
+double ltsdLobeTotalVariation(const std::string& type, double g, int side, int source, double m) {
+    if (type == "hg") return ltsdTotalVariation(double(side) * g, source, m);
+    const double upperShare = ltsdLobeCdf(type, g, 0.0);
+    const double amplitude = side > 0 ? upperShare : 1.0 - upperShare;
+    const double x0 = -30.0, x1 = 30.0;
+    const int panels = 600;
+    const double h = (x1 - x0) / panels, shift = std::log(m);
+    double sum = 0.0;
+    for (int p = 0; p < panels; ++p) {
+        const double mid = x0 + (double(p) + 0.5) * h;
+        for (int k = 0; k < 4; ++k) {
+            for (double sgn : {-1.0, 1.0}) {
+                const double x = mid + sgn * 0.5 * h * kGaussNodes[size_t(k)];
+                const double diff = sourceDensityX(source, x - shift) - lobeDensityX(type, g, side, amplitude, x);
+                sum += 0.5 * h * kGaussWeights[size_t(k)] * std::abs(diff);
+            }
+        }
+    }
+    return sum;
+}
+
 LtsdFitError ltsdFitErrorAt(const LtsdTable& table, double g) {
-    g = std::clamp(g, -double(table.gMax), double(table.gMax));
+    g = table.parameterless() ? 0.0 : std::clamp(g, -double(table.gMax), double(table.gMax));
     const shader::LtsdEntry u = table.upper(g), l = table.lower(g);
     LtsdFitError e;
     e.g = g;
-    e.tvUpper = ltsdTotalVariation(g, u.source, double(u.m[0]) / double(u.m[8]));
-    e.tvLower = ltsdTotalVariation(-g, l.source, double(l.m[0]) / double(l.m[8]));
+    e.tvUpper = ltsdLobeTotalVariation(table.phase, g, 1, u.source, double(u.m[0]) / double(u.m[8]));
+    e.tvLower = ltsdLobeTotalVariation(table.phase, g, -1, l.source, double(l.m[0]) / double(l.m[8]));
     e.bound = 0.5 * (double(u.amplitude) * e.tvUpper + double(l.amplitude) * e.tvLower);
     return e;
 }
 
 std::vector<LtsdFitError> ltsdFitErrorCurve(const LtsdTable& table, int points) {
     std::vector<LtsdFitError> curve;
+    if (table.parameterless()) return {ltsdFitErrorAt(table, 0.0)};
     for (int i = 0; i < points; ++i)
         curve.push_back(ltsdFitErrorAt(table, -double(table.gMax) + 2.0 * double(table.gMax) * double(i) / double(points - 1)));
     return curve;

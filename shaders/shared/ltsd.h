@@ -198,6 +198,26 @@ TY_FUNC float ltsdS(TY_IN(SphericalPolygon) p, TY_IN(LtsdEntry) upper, TY_IN(Lts
     return sum;
 }
 
+// The exact part of a phase function beyond the paper (docs/tables.md, "Other phase functions"): the integral over P of
+// (isotropic + linear mu) / (4 pi) with mu = -z, i.e. (isotropic Omega(P) - linear int_P z) / (4 pi), where
+// int_P z = pi x the (unclipped) edge sum of Lambert's formula, valid for any polygon inside an open hemisphere.
+TY_FUNC float ltsdLinearPhaseIntegral(TY_IN(SphericalPolygon) p, float isotropic, float linear) {
+    float signedOmega = ltsdSignedSolidAngle(p);
+    float orientation = signedOmega < 0.0f ? -1.0f : 1.0f;
+    float zIntegral = kPi * orientation * ltsdSignedCosineSum(p);
+    return (isotropic * abs(signedOmega) - linear * zIntegral) * kInvFourPi;
+}
+
+// The integral of a phase function over P: S of Eq. 21 for the part the table's LTSDs fit (the entries' amplitudes
+// carry its weight) plus the exact isotropic and linear parts. HG: isotropic = linear = 0, so this is ltsdS; isotropic
+// and Eddington need no entries (amplitudes 0); the HG-isotropic mix, Rayleigh and the Mie presets have both parts.
+TY_FUNC float ltsdPhaseIntegral(TY_IN(SphericalPolygon) p, TY_IN(LtsdEntry) upper, TY_IN(LtsdEntry) lower,
+                                float isotropic, float linear) {
+    float s = ltsdS(p, upper, lower);
+    if (isotropic != 0.0f || linear != 0.0f) s += ltsdLinearPhaseIntegral(p, isotropic, linear);
+    return s;
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Table fetch (Eq. 24 of 000)
 //

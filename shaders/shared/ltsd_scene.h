@@ -53,7 +53,7 @@ struct LtsdLight {
     float radius2;  // m^2, area / pi: the squared radius of the disc of the light's area
 };
 
-// Everything else a frame needs, 224 bytes.
+// Everything else a frame needs, 256 bytes.
 struct LtsdFrame {
     CameraParams camera;
     vec3 sigmaT;  // 1/m
@@ -66,10 +66,18 @@ struct LtsdFrame {
     int transmittance;  // kLtsdTransmittance*
     int supersampling;  // S: S x S rays per pixel on a regular grid (a box filter)
     float tailDistance;  // m: an unbounded camera segment ends here, where e^(-sigma_t t) < e^-9.2 ~ 1e-4
-    float g;             // the medium's Henyey-Greenstein asymmetry, for the ratio estimators' true phase function
+    float g;             // the medium's HG (and mix) asymmetry, for the ratio estimators' true phase function
     float rayOffset;     // m, offset of shadow rays from surfaces (the ratio estimators)
     LtsdEntry upper;  // M_u and a_u of the medium's phase function (Eq. 24, fetched on the CPU: g is per medium)
     LtsdEntry lower;  // T (M_l = diag(1, 1, -1) T) and a_l
+    int phaseKind;         // kPhase* of the medium (the ratio estimators' true phase function)
+    float phaseA;          // mix: the HG lobe's weight
+    float phaseB;          // eddington: b
+    float phaseIsotropic;  // the exact part (isotropic + linear mu) / (4 pi) of ltsdPhaseIntegral (docs/tables.md)
+    float phaseLinear;
+    float pad0;
+    float pad1;
+    float pad2;
 };
 
 // Supplied by the includer (see the top of the file).
@@ -243,6 +251,17 @@ TY_FUNC vec3 ltsdMeanTransmittance(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, T
 #endif
 }
 
+// The medium's true phase function at mu (the kinds the technique accepts), for the ratio estimators.
+TY_FUNC float ltsdTruePhase(TY_IN(LtsdFrame) f, float mu) {
+    if (f.phaseKind == kPhaseHenyeyGreenstein) return henyeyGreenstein(mu, f.g);
+    if (f.phaseKind == kPhaseIsoHgMix) return (1.0f - f.phaseA) * kInvFourPi + f.phaseA * henyeyGreenstein(mu, f.g);
+    if (f.phaseKind == kPhaseRayleigh) return 3.0f / (16.0f * kPi) * (1.0f + mu * mu);
+    if (f.phaseKind == kPhaseEddington) return kInvFourPi * (1.0f + f.phaseB * mu);
+    if (f.phaseKind == kPhaseHazyMie || f.phaseKind == kPhaseMurkyMie)
+        return kInvFourPi * (0.5f + mieLobe(mieLobeExponent(f.phaseKind), mu));
+    return kInvFourPi;
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Radiance
 
@@ -251,7 +270,9 @@ TY_FUNC vec3 ltsdMeanTransmittance(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, T
 TY_FUNC vec3 ltsdInScattered(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(vec3) z, TY_IN(vec3) tx,
                              TY_IN(vec3) ty, TY_IN(vec3) wo) {
     if (!ltsdFacing(light, z)) return vec3(0.0f);
-    float s = ltsdS(ltsdLocalPolygon(light, z, tx, ty, wo), f.upper, f.lower);  // Eq. 21
+    // Eq. 21 for the fitted lobe, plus the phase function's exact isotropic and linear part
+    float s = ltsdPhaseIntegral(ltsdLocalPolygon(light, z, tx, ty, wo), f.upper, f.lower, f.phaseIsotropic,
+                                f.phaseLinear);
     return light.radiance * ltsdMeanTransmittance(f, light, z) * s;
 }
 
@@ -485,9 +506,9 @@ TY_FUNC LtsdRatioTerms ltsdRatioSample(TY_IN(LtsdFrame) f, int px, int py, uint 
             if (light.twoSided != 0) cosLight = abs(cosLight);
 #endif
             if (cosLight > 0.0f && pdfT > 0.0f && r2 > 0.0f) {
-                // Eq. 1-2 with the true HG (mu = dot(d, omega_i)) and the true transmittance on both legs.
+                // Eq. 1-2 with the true phase function (mu = dot(d, omega_i)) and the true transmittance on both legs.
                 vec3 value = exp(-f.sigmaT * (t - seg.x + ltsdChord(f, z, v))) * f.sigmaS * light.radiance *
-                             (henyeyGreenstein(dot(dir, wi), f.g) * cosLight / r2 * area / pdfT);
+                             (ltsdTruePhase(f, dot(dir, wi)) * cosLight / r2 * area / pdfT);
                 r.airDenominator += value;
                 if (!bvhOccluded(z, wi, 0.0f, rl * (1.0f - 1e-4f))) r.airNumerator += value;
             }

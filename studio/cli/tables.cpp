@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -36,30 +37,39 @@ nlohmann::json parseArgument(const std::string& text, const std::string& option)
     }
 }
 
-std::string tableList(const std::string& dir = "") {
-    std::string list;
-    for (const std::string& t : ltsdTablePhases(dir))
-        list += (list.empty() ? "" : ", ") + t;
-    return list.empty() ? "none" : list;
-}
-
 LtsdPhase parsePhase(const std::string& text) {
     const nlohmann::json j = parseArgument(text, "--phase");
     if (!j.is_object() || !j.contains("type") || !j["type"].is_string())
         throw InputError(InputLocation{"", 0, 0, "--phase"}, "must be an object with a \"type\", e.g. {\"type\":\"hg\",\"g\":0.5}");
     LtsdPhase phase;
     phase.type = j["type"].get<std::string>();
-    if (phase.type != "hg")
+    if (!ltsdPhaseRefusal(phase.type).empty())
         throw InputError(InputLocation{"", 0, 0, "--phase.type"},
-                         "no LTSD table for '" + phase.type + "'; tables exist for: " + tableList());
-    if (j.contains("g") && !j["g"].is_number())
-        throw InputError(InputLocation{"", 0, 0, "--phase.g"}, "must be a number in (-1, 1)");
+                         "the LTSD technique cannot take '" + phase.type + "': " + ltsdPhaseRefusal(phase.type));
+    // The keys each type takes (docs/project-format.md) and their ranges.
+    std::vector<std::string> allowed = {"type"};
+    if (phase.type == "hg" || phase.type == "mix") allowed.push_back("g");
+    if (phase.type == "mix") allowed.push_back("a");
+    if (phase.type == "eddington") allowed.push_back("b");
+    for (const auto& [key, value] : j.items()) {
+        if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+            std::string list;
+            for (const std::string& k : allowed) list += (list.empty() ? "" : ", ") + k;
+            throw InputError(InputLocation{"", 0, 0, "--phase." + key},
+                             "unknown key for " + phase.type + "; allowed: " + list);
+        }
+        if (key != "type" && !value.is_number())
+            throw InputError(InputLocation{"", 0, 0, "--phase." + key}, "must be a number");
+    }
     phase.g = j.value("g", 0.0);
+    phase.a = j.value("a", 1.0);
+    phase.b = j.value("b", 0.0);
     if (!(phase.g > -1.0 && phase.g < 1.0))
         throw InputError(InputLocation{"", 0, 0, "--phase.g"}, "must be in (-1, 1), got " + j["g"].dump());
-    for (const auto& [key, value] : j.items())
-        if (key != "type" && key != "g")
-            throw InputError(InputLocation{"", 0, 0, "--phase." + key}, "unknown key for hg; allowed: type, g");
+    if (!(phase.a >= 0.0 && phase.a <= 1.0))
+        throw InputError(InputLocation{"", 0, 0, "--phase.a"}, "must be in [0, 1], got " + j["a"].dump());
+    if (!(phase.b >= -1.0 && phase.b <= 1.0))
+        throw InputError(InputLocation{"", 0, 0, "--phase.b"}, "must be in [-1, 1], got " + j["b"].dump());
     return phase;
 }
 
@@ -135,7 +145,11 @@ int tablesEval(const TablesEvalArgs& args) {
     return reportErrors([&] {
         const LtsdPhase phase = parsePhase(args.phase);
         const std::vector<glm::dvec3> vertices = parsePolygon(args.polygon);
-        const LtsdTable table = loadLtsdTable(ltsdTablePath(phase.type, args.tables));
+        // Isotropic and Eddington are exact and read no table; mix reads HG's.
+        const std::string tableType = ltsdTableFor(phase.type);
+        LtsdTable table;
+        if (!tableType.empty()) table = loadLtsdTable(ltsdTablePath(tableType, args.tables));
+        const LtsdPhaseTerms terms = ltsdPhaseTerms(phase, tableType.empty() ? nullptr : &table);
         shader::SphericalPolygon polygon{};
         polygon.count = int(vertices.size());
         glm::dvec3 centre(0.0);
@@ -143,14 +157,15 @@ int tablesEval(const TablesEvalArgs& args) {
             polygon.v[i] = glm::vec3(vertices[i]);
             centre += vertices[i];
         }
-        const double ltsd = table.integral(polygon, phase.g);
+        const double ltsd = ltsdPhaseIntegral(terms, polygon);
         const double exact =
             integrateOverSphericalPolygon(vertices, centre, [&](const glm::dvec3& w) { return phase.eval(-w.z); });
         const nlohmann::json j = {
-            {"phase", {{"type", phase.type}, {"g", phase.g}}},
+            {"phase", {{"type", phase.type}, {"g", phase.g}, {"a", phase.a}, {"b", phase.b}}},
             {"frame", "omega_o = +z (towards the viewer); mu = -z"},
-            {"table", table.path},
-            {"gClamped", std::abs(phase.g) > double(table.gMax)},
+            {"table", tableType.empty() ? "none (exact)" : table.path},
+            {"gClamped", !table.parameterless() && !tableType.empty() && std::abs(phase.g) > double(table.gMax)},
+            {"exactPart", {{"isotropic", terms.isotropic}, {"linear", terms.linear}}},
             {"ltsd", ltsd},
             {"exact", exact},
             {"absoluteError", ltsd - exact},

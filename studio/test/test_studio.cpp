@@ -1336,11 +1336,13 @@ private slots:
     // A phase function without a table: a message naming it and the tables there are, no curves; back with undo.
     void explainsAPhaseFunctionWithoutATable() {
         QString error;
-        QVERIFY2(window_->session().editScene({"media[fog].phase={\"type\":\"rayleigh\"}"}, "phase", &error),
+        QVERIFY2(window_->session().editScene({"media[fog].phase={\"type\":\"legendre\",\"coefficients\":[1,0.5]}"},
+                                              "phase", &error),
                  qPrintable(error));
         LtsdPolarPlot* polar = window_->ltsdPolarPlot();
-        QVERIFY2(polar->caption().contains("No LTSD table for rayleigh"), qPrintable(polar->caption()));
-        QVERIFY2(polar->caption().contains("tables exist for: hg"), qPrintable(polar->caption()));
+        QVERIFY2(polar->caption().contains("No LTSD table for legendre"), qPrintable(polar->caption()));
+        QVERIFY2(polar->caption().contains("tables exist for: hazy-mie, hg, murky-mie, rayleigh"),
+                 qPrintable(polar->caption()));
         QCOMPARE(polar->title(), polar->caption());  // in the exports, too
         QVERIFY(!polar->phaseCurve());
         QCOMPARE(polar->plot()->plottableCount(), 0);
@@ -1351,7 +1353,7 @@ private slots:
                 curvePixels += colourNear(shown, QPointF(x, y), LtsdPolarPlot::phaseColour(), 0) ||
                                colourNear(shown, QPointF(x, y), LtsdPolarPlot::fitColour(), 0);
         QCOMPARE(curvePixels, 0);
-        QVERIFY(window_->ltsdErrorPlot()->caption().contains("No LTSD table for rayleigh"));
+        QVERIFY(window_->ltsdErrorPlot()->caption().contains("No LTSD table for legendre"));
         QVERIFY(!window_->ltsdErrorPlot()->marker());
         window_->session().undoStack()->undo();
         QVERIFY(polar->phaseCurve());

@@ -10,11 +10,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <numbers>
 
 namespace tyndall {
@@ -63,6 +65,32 @@ TEST(LtsdTable, ShippedEntriesHoldExactAmplitudes) {
     for (int i = 0; i < 2 * t.entriesPerHalf; ++i)
         EXPECT_EQ(t.entries[size_t(i)].amplitude, float(hgUpperAmplitude(t.entryG(i)))) << i;
     EXPECT_FLOAT_EQ(t.upper(0.0).amplitude + t.lower(0.0).amplitude, 1.0f);
+}
+
+struct PolygonErrors {
+    double maxAbs = 0.0, meanAbs = 0.0, maxRel = 0.0, meanRel = 0.0;
+};
+
+// The error statistics of a phase function's LTSD integral (ltsdPhaseIntegral with `terms`) against adaptive
+// quadrature of the phase function over the random polygons of the HG test (relative over exact > 1e-3).
+PolygonErrors polygonErrors(const LtsdPhase& phase, const LtsdPhaseTerms& terms) {
+    static const std::vector<test::TestPolygon> polygons = test::randomTestPolygons(2026u, 4);
+    PolygonErrors e;
+    int relCount = 0;
+    for (const test::TestPolygon& p : polygons) {
+        const double exact = test::integrateOverPolygon(
+            p.centre, p.vertices, [&](const dvec3& w) { return phase.eval(-w.z); }, 1e-10, 1e-8);
+        const double err = std::abs(ltsdPhaseIntegral(terms, test::toShaderPolygon(p)) - exact);
+        e.maxAbs = std::max(e.maxAbs, err);
+        e.meanAbs += err / double(polygons.size());
+        if (exact > 1e-3) {
+            e.maxRel = std::max(e.maxRel, err / exact);
+            e.meanRel += err / exact;
+            ++relCount;
+        }
+    }
+    if (relCount > 0) e.meanRel /= relCount;
+    return e;
 }
 
 // The shipped table's S against adaptive quadrature of HG over random polygons of every kind (tiny to ~2 sr,
@@ -137,7 +165,7 @@ TEST(LtsdTable, FittedDensityIntegratesToOneAndFeedsThePolarCurve) {
 // The phase types with a table are the folder's <type>.ltsd files, sorted; nothing else counts.
 TEST(LtsdTable, ListsThePhaseTypesThatHaveATable) {
     EXPECT_EQ(ltsdTablePhases(std::filesystem::path(TYNDALL_SHIPPED_TABLE).parent_path().string()),
-              std::vector<std::string>{"hg"});
+              (std::vector<std::string>{"hazy-mie", "hg", "murky-mie", "rayleigh"}));
     const std::filesystem::path dir = std::filesystem::path(TYNDALL_TEST_TMP) / "table-phases";
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
@@ -227,6 +255,102 @@ TEST(LtsdTable, RefitReproducesShippedEntries) {
         const sh::LtsdEntry e = tables::fitEntry(i, settings);
         EXPECT_EQ(std::memcmp(&e, &t.entries[size_t(i)], sizeof e), 0) << "entry " << i;
     }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Other phase functions (docs/tables.md, "Other phase functions")
+
+const std::string kTablesDir = std::filesystem::path(TYNDALL_SHIPPED_TABLE).parent_path().string();
+
+const LtsdTable* tableFor(const LtsdPhase& phase) {
+    static std::map<std::string, LtsdTable> tables;
+    const std::string type = ltsdTableFor(phase.type);
+    if (type.empty()) return nullptr;
+    if (!tables.count(type)) tables[type] = loadLtsdTable(ltsdTablePath(type, kTablesDir));
+    return &tables[type];
+}
+
+// Each phase function's LTSD integral against quadrature over the HG test's polygons: the shipped parameterless tables
+// (the isotropic part exact, the lobe fitted), Eddington and isotropic (exact: float rounding only), the HG-isotropic
+// mix (the HG table, weighted). Measured 2026-12-03; bounds 5 % above (deterministic, as for HG), and the quality
+// that the LTSD technique's refusals quote (kLtsdPhaseQuality) must agree with the measurement.
+TEST(LtsdOtherPhases, IntegralMatchesQuadratureOverRandomPolygons) {
+    struct Case {
+        LtsdPhase phase;
+        double maxAbs, meanAbs;
+    };
+    const Case cases[] = {
+        {{"rayleigh"}, 1.616e-03, 3.499e-04},
+        {{"hazy-mie"}, 6.758e-03, 7.363e-04},
+        {{"murky-mie"}, 3.563e-02, 3.517e-03},
+        {{"isotropic"}, 1e-6, 1e-7},
+        {{"eddington", 0.0, 1.0, -1.0}, 1e-6, 1e-7},
+        {{"eddington", 0.0, 1.0, -0.4}, 1e-6, 1e-7},
+        {{"eddington", 0.0, 1.0, 0.7}, 1e-6, 1e-7},
+        {{"eddington", 0.0, 1.0, 1.0}, 1e-6, 1e-7},
+        {{"mix", 0.8, 0.5}, 0.5 * 4.916e-02, 0.5 * 4.695e-03},
+        {{"mix", -0.6, 0.9}, 0.9 * 2.727e-02, 0.9 * 4.650e-03},
+    };
+    std::printf("%-10s %6s %6s %6s %12s %12s %12s %12s\n", "phase", "g", "a", "b", "maxAbs", "meanAbs", "maxRel",
+                "meanRel");
+    std::map<std::string, PolygonErrors> worst;
+    for (const Case& c : cases) {
+        const PolygonErrors e = polygonErrors(c.phase, ltsdPhaseTerms(c.phase, tableFor(c.phase)));
+        std::printf("%-10s %6.2f %6.2f %6.2f %12.3e %12.3e %12.3e %12.3e\n", c.phase.type.c_str(), c.phase.g,
+                    c.phase.a, c.phase.b, e.maxAbs, e.meanAbs, e.maxRel, e.meanRel);
+        EXPECT_LE(e.maxAbs, kHeadroom * c.maxAbs) << c.phase.type;
+        EXPECT_LE(e.meanAbs, kHeadroom * c.meanAbs) << c.phase.type;
+        PolygonErrors& w = worst[c.phase.type];
+        w.maxAbs = std::max(w.maxAbs, e.maxAbs);
+        w.meanAbs = std::max(w.meanAbs, e.meanAbs);
+    }
+    for (const LtsdPhaseQuality& q : kLtsdPhaseQuality) {
+        // hg and mix (at most a x HG's error): HG's worst over g, the HG test's; exact ones: bounded above.
+        if (!worst.count(q.type) || q.maxAbs < 1e-5 || std::string(q.type) == "mix") continue;
+        EXPECT_NEAR(worst[q.type].maxAbs, q.maxAbs, 0.05 * q.maxAbs) << q.type;
+        EXPECT_NEAR(worst[q.type].meanAbs, q.meanAbs, 0.05 * q.meanAbs) << q.type;
+        EXPECT_EQ(ltsdPhaseRefusal(q.type), "") << q.type;
+    }
+    EXPECT_NE(ltsdPhaseRefusal("legendre").find("no LTSD form"), std::string::npos);
+}
+
+// The parameterless tables: two entries, amplitudes = the lobe's weight times its share of each hemisphere, so that
+// 1 - a_u - a_l is the exact isotropic part; and a re-fit reproduces them bit for bit.
+TEST(LtsdOtherPhases, ShippedTablesHoldExactAmplitudesAndReproduce) {
+    for (const char* type : {"rayleigh", "hazy-mie", "murky-mie"}) {
+        const LtsdTable t = loadLtsdTable(ltsdTablePath(type, kTablesDir));
+        ASSERT_TRUE(t.parameterless()) << type;
+        const double upperShare = ltsdLobeCdf(type, 0.0, 0.0);
+        EXPECT_EQ(t.entries[0].amplitude, float(ltsdLobeWeight(type) * upperShare)) << type;
+        EXPECT_EQ(t.entries[1].amplitude, float(ltsdLobeWeight(type) * (1.0 - upperShare))) << type;
+        EXPECT_NEAR(t.isotropicWeight(), 1.0 - ltsdLobeWeight(type), 1e-7) << type;
+        // The lobe's hemisphere shares against quadrature of the lobe.
+        const double quadrature = test::integrate(
+            [&](double mu) { return 2.0 * kPi * ltsdLobeEval(type, 0.0, mu); }, -1.0, 0.0, 1e-14, 1e-12);
+        EXPECT_NEAR(upperShare, quadrature, 1e-10) << type;
+        tables::FitSettings settings;
+        settings.phase = type;
+        settings.loss = t.provenance["settings"].value("loss", std::string("sw"));
+        for (int i : {0, 1}) {
+            const sh::LtsdEntry e = tables::fitEntry(i, settings);
+            EXPECT_EQ(std::memcmp(&e, &t.entries[size_t(i)], sizeof e), 0) << type << " entry " << i;
+        }
+        // The fitted density (with the isotropic part) integrates to 1.
+        const auto f = [&](double z, double phi) { return t.density(test::unitFromAngles(z, phi), 0.0); };
+        EXPECT_NEAR(test::integrate2D(f, -1.0, 1.0, 0.0, 2.0 * kPi, 1e-9, 1e-6), 1.0, 1e-4) << type;
+    }
+}
+
+// A parameterless table must say so in its header (gMax 0) and hold sources 0 or 1.
+TEST(LtsdOtherPhases, BadParameterlessTablesAreRefused) {
+    LtsdTable t = loadLtsdTable(ltsdTablePath("rayleigh", kTablesDir));
+    t.gMax = 0.5f;
+    saveLtsdTable(t, tmpFile("rayleigh-gmax.ltsd"));
+    expectRefused(tmpFile("rayleigh-gmax.ltsd"), "header.gMax");
+    t = loadLtsdTable(ltsdTablePath("rayleigh", kTablesDir));
+    t.entries[1].source = 5;
+    saveLtsdTable(t, tmpFile("rayleigh-source.ltsd"));
+    expectRefused(tmpFile("rayleigh-source.ltsd"), "entries[1].source");
 }
 
 }  // namespace

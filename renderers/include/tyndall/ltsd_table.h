@@ -16,10 +16,13 @@
 
 namespace tyndall {
 
-// The phase functions a table can be fitted to, evaluated in double. Only HG has tables today.
+// A phase function as the LTSD tables see it, evaluated in double: the project-format types hg, isotropic, mix,
+// rayleigh, eddington, hazy-mie and murky-mie (legendre has no table: its series is the user's).
 struct LtsdPhase {
     std::string type = "hg";  // project-format phase type
-    double g = 0.0;           // HG asymmetry, in (-1, 1)
+    double g = 0.0;           // hg and mix: asymmetry, in (-1, 1)
+    double a = 1.0;           // mix: weight of the HG lobe, in [0, 1]
+    double b = 0.0;           // eddington: (1 + b mu) / (4 pi), b in [-1, 1]
 
     // p(mu) per sr, project convention (mu = 1: forward scattering).
     double eval(double mu) const;
@@ -29,6 +32,24 @@ struct LtsdPhase {
 // mu in [-1, 0]: a_u(g) = (1 - g) / (sqrt(1 + g^2) (1 + g + sqrt(1 + g^2))), exact and stable for every g in [-1, 1].
 // a_l(g) = a_u(-g), and a_u + a_l = 1.
 double hgUpperAmplitude(double g);
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Other phase functions (docs/tables.md, "Other phase functions"): a phase function is split into an exact part
+// (isotropic + linear mu) / (4 pi), integrated in closed form over any polygon, and a lobe that a table's LTSDs fit:
+//   hg: the lobe is HG (weight 1);  mix: (1 - a) isotropic + a HG (the HG table);  isotropic, eddington: exact only;
+//   rayleigh: 3/4 isotropic + 1/4 of the lobe 3 mu^2 / (4 pi);  hazy-mie, murky-mie: 1/2 isotropic + 1/2 of the lobe
+//   (n + 1) ((1 + mu) / 2)^n / (4 pi), n = 8 or 32.
+
+// The table a phase type needs ("hg" for hg and mix, the type itself for rayleigh and the Mie presets), or "" when it
+// is exact without one (isotropic, eddington). Throws InputError for a type that has no LTSD form (legendre).
+std::string ltsdTableFor(const std::string& phaseType);
+
+// The lobe that a table fits, normalised over the sphere (per sr), at mu; `g` is used by hg only.
+double ltsdLobeEval(const std::string& tableType, double g, double mu);
+// Its integral over mu' in [-1, mu] (times 2 pi): the lobe's CDF in mu.
+double ltsdLobeCdf(const std::string& tableType, double g, double mu);
+// The lobe's share of its phase function (hg 1, rayleigh 1/4, the Mie presets 1/2).
+double ltsdLobeWeight(const std::string& tableType);
 
 struct LtsdTable {
     static constexpr std::uint32_t kVersion = 1;
@@ -47,12 +68,57 @@ struct LtsdTable {
     shader::LtsdEntry upper(double g) const;
     shader::LtsdEntry lower(double g) const;
 
-    // Eq. 21: the LTSD approximation of the phase function's integral over the polygon (frame: omega_o = +z).
+    // A parameterless table (rayleigh, the Mie presets) has n = 1: entry 0 is M_u, entry 1 the T of M_l; g is ignored.
+    bool parameterless() const { return entriesPerHalf == 1; }
+
+    // The weight of the exact isotropic part of the table's phase function: 1 - a_u - a_l of a parameterless table
+    // (its amplitudes carry the lobe's weight), 0 for HG.
+    double isotropicWeight() const;
+
+    // Eq. 21 (with the isotropic part of a parameterless table): the LTSD approximation of the phase function's
+    // integral over the polygon (frame: omega_o = +z).
     double integral(const shader::SphericalPolygon& polygon, double g) const;
 
     // The fitted density per sr in direction w (unit, frame omega_o = +z): a_u D_u or a_l D_l by hemisphere.
     double density(const glm::dvec3& w, double g) const;
 };
+
+// The measured quality of each phase type's LTSD form: the largest and the mean absolute error of its integral over
+// the 24 random polygons of tables/test against adaptive quadrature (the worst over the tested parameters), measured
+// 2026-12-03 (docs/tables.md; the tables test fails when a measurement leaves these by more than 5 %). The LTSD
+// technique accepts a phase type whose errors are within kLtsdAccepted*: the shipped HG table's worst (g = 0.8 and
+// 0.95), the accuracy of the paper's method itself.
+struct LtsdPhaseQuality {
+    const char* type;
+    double maxAbs;
+    double meanAbs;
+};
+inline constexpr double kLtsdAcceptedMaxAbs = 5.0e-2;
+inline constexpr double kLtsdAcceptedMeanAbs = 6.0e-3;
+inline constexpr LtsdPhaseQuality kLtsdPhaseQuality[] = {
+    {"hg", 4.916e-02, 5.919e-03},       {"mix", 4.916e-02, 5.919e-03},       {"isotropic", 1e-6, 1e-7},
+    {"eddington", 1e-6, 1e-7},          {"rayleigh", 1.616e-03, 3.499e-04},  {"hazy-mie", 6.758e-03, 7.363e-04},
+    {"murky-mie", 3.563e-02, 3.517e-03},
+};
+
+// Why the LTSD technique cannot render a phase type ("" when it can): no LTSD form (legendre), or a measured error
+// above the threshold (naming both).
+std::string ltsdPhaseRefusal(const std::string& phaseType);
+
+// What the run time needs for one phase function: the two (interpolated) entries with the lobe's amplitudes and the
+// weights of the exact part, for ltsdPhaseIntegral of shared/ltsd.h.
+struct LtsdPhaseTerms {
+    shader::LtsdEntry upper{};
+    shader::LtsdEntry lower{};
+    float isotropic = 0.0f;  // weight of 1 / (4 pi)
+    float linear = 0.0f;     // weight of mu / (4 pi)
+};
+
+// The terms of `phase`; `table` is the table of ltsdTableFor(phase.type) (unused, may be null, when that is "").
+LtsdPhaseTerms ltsdPhaseTerms(const LtsdPhase& phase, const LtsdTable* table);
+
+// ltsdPhaseIntegral of shared/ltsd.h with these terms, in the frame omega_o = +z.
+double ltsdPhaseIntegral(const LtsdPhaseTerms& terms, const shader::SphericalPolygon& polygon);
 
 // Reads a table; every problem (missing, truncated, another version, bad checksum, non-finite or singular matrices,
 // amplitudes outside [0, 1]) is an InputError naming the file. The sidecar `<file>.json` holds the provenance.
@@ -105,6 +171,10 @@ LtsdFitError ltsdFitErrorAt(const LtsdTable& table, double g);
 // of the same hemisphere, for entries of the form M = diag(m, m, 1) (what the fitter produces). Deterministic
 // quadrature in x = ln tan(theta), where the fit is a shift of the source: see docs/tables.md.
 double ltsdTotalVariation(double g, int source, double m);
+
+// The same for the lobe of a table type (ltsdLobeEval) on one hemisphere: side +1 the upper (mu in [-1, 0]), -1 the
+// lower mirrored to the upper one (mu = z). For "hg" it is ltsdTotalVariation(side * g, ...).
+double ltsdLobeTotalVariation(const std::string& tableType, double g, int side, int source, double m);
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Reference integrals
