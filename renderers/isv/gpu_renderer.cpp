@@ -1,8 +1,320 @@
 #include "isv/gpu_renderer.h"
-#include "tyndall/gpu/context.h"
+
+#include "tyndall/error.h"
+#include "tyndall/gpu/graphics.h"
+#include "tyndall/gpu/resources.h"
+#include "tyndall/gpu/shader_compiler.h"
+#include "tyndall/gpu/slicer.h"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <sstream>
+
 namespace tyndall::isv {
-struct GpuRenderer::Impl {};
-GpuRenderer::GpuRenderer() = default;
-GpuRenderer::~GpuRenderer() = default;
-GpuOutput GpuRenderer::render(const PreparedScene&, const RenderCallbacks&) { throw std::runtime_error("gpu: todo"); }
+
+namespace {
+
+constexpr std::uint32_t kGroupSize = 64;
+
+// shaders/isv/isv_view.glsl's IsvView, std430.
+struct ViewBlock {
+    shader::CameraParams camera;
+    float nearPlane;
+    std::int32_t width;
+    std::int32_t height;
+    std::int32_t particleCount;
+};
+static_assert(sizeof(ViewBlock) == 80);
+
+struct RangePush {
+    std::uint32_t first, end;
+};
+struct ProxyPush {
+    std::int32_t slab;     // -1 for the camera pass
+    std::int32_t ordered;  // 1: particles in the sorted order
+};
+struct SortPush {
+    std::uint32_t count, k, j;
+};
+struct SumPush {
+    std::uint32_t texels, slices;
+};
+
+std::string shaderPath(const std::string& name) {
+    return std::string(TYNDALL_SHADER_DIR) + "/isv/" + name;
 }
+
+// Compiles shaders/isv/<name> with `defines` inserted after its #version line.
+std::vector<std::uint32_t> compileStage(const std::string& name, gpu::ShaderStage stage, const std::string& defines) {
+    const std::string path = shaderPath(name);
+    std::ifstream file(path);
+    if (!file) throw gpu::GpuError("cannot read the shader " + path);
+    std::stringstream text;
+    text << file.rdbuf();
+    std::string source = text.str();
+    if (!defines.empty()) source.insert(source.find('\n') + 1, defines + "#line 2\n");
+    gpu::CompileResult compiled = gpu::compileGlslSource(source, path, stage);
+    if (!compiled.ok) throw gpu::ShaderError(*compiled.error);
+    return compiled.spirv;
+}
+
+std::uint32_t groups(std::uint64_t n) {
+    return std::uint32_t((n + kGroupSize - 1) / kGroupSize);
+}
+
+}  // namespace
+
+struct GpuRenderer::Impl {
+    std::shared_ptr<gpu::Context> context = gpu::sharedContext();
+    std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels;
+    std::map<std::string, std::unique_ptr<gpu::GraphicsPipeline>> pipelines;
+    double compileSeconds = 0.0;
+
+    bool words() const { return context->device().shaderFloat64; }
+
+    gpu::ComputeKernel& kernel(const std::string& file, std::uint32_t bindings, std::uint32_t pushBytes,
+                               bool bvh) {
+        const std::string key = file + (bvh && words() ? "-w" : "");
+        auto it = kernels.find(key);
+        if (it != kernels.end()) return *it->second;
+        const auto start = std::chrono::steady_clock::now();
+        const std::string defines = bvh && words() ? "#define TY_BVH_WORDS\n" : "";
+        auto k = std::make_unique<gpu::ComputeKernel>(*context, compileStage(file, gpu::ShaderStage::Compute, defines),
+                                                      bindings, pushBytes, "isv_" + key);
+        compileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return *kernels.emplace(key, std::move(k)).first->second;
+    }
+
+    // The proxies' pipeline: the camera's (premultiplied-under blending into RGBA) or the volumetric shadow map's
+    // (additive into R32). The phase function is a compile-time variant when the particles share one kind.
+    gpu::GraphicsPipeline& proxies(bool lightView, int phaseKind) {
+        const std::string key = std::string(lightView ? "vsm" : "camera") + "-" + std::to_string(phaseKind);
+        auto it = pipelines.find(key);
+        if (it != pipelines.end()) return *it->second;
+        const auto start = std::chrono::steady_clock::now();
+        std::string defines;
+        if (phaseKind >= 0) defines += "#define TY_PHASE_KIND " + std::to_string(phaseKind) + "\n";
+        gpu::GraphicsPipelineDesc desc;
+        desc.name = "isv_" + key;
+        desc.vertex = compileStage("proxy.vert.glsl", gpu::ShaderStage::Vertex, "");
+        desc.geometry = compileStage("proxy.geom.glsl", gpu::ShaderStage::Geometry,
+                                     lightView ? "#define TY_ISV_LIGHT_VIEW\n" : "");
+        desc.fragment = compileStage(lightView ? "vsm.frag.glsl" : "particle.frag.glsl", gpu::ShaderStage::Fragment,
+                                     defines);
+        desc.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
+        desc.colour = {lightView ? gpu::ColourAttachment{VK_FORMAT_R32_SFLOAT, gpu::Blend::additive()}
+                                 : gpu::ColourAttachment{VK_FORMAT_R32G32B32A32_SFLOAT,
+                                                         gpu::Blend::premultipliedUnder()}};
+        desc.bindingCount = lightView ? 4 : 7;
+        desc.pushConstantBytes = sizeof(ProxyPush);
+        auto p = std::make_unique<gpu::GraphicsPipeline>(*context, desc);
+        compileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return *pipelines.emplace(key, std::move(p)).first->second;
+    }
+
+    gpu::GraphicsPipeline& background() {
+        auto it = pipelines.find("background");
+        if (it != pipelines.end()) return *it->second;
+        gpu::GraphicsPipelineDesc desc;
+        desc.name = "isv_background";
+        desc.vertex = compileStage("fullscreen.vert.glsl", gpu::ShaderStage::Vertex, "");
+        desc.fragment = compileStage("background.frag.glsl", gpu::ShaderStage::Fragment, "");
+        desc.colour = {gpu::ColourAttachment{VK_FORMAT_R32G32B32A32_SFLOAT, gpu::Blend::none()}};
+        desc.bindingCount = 1;
+        desc.pushConstantBytes = sizeof(std::int32_t);
+        return *pipelines.emplace("background", std::make_unique<gpu::GraphicsPipeline>(*context, desc))
+                    .first->second;
+    }
+};
+
+GpuRenderer::GpuRenderer() : impl_(std::make_unique<Impl>()) {}
+GpuRenderer::~GpuRenderer() = default;
+
+GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks& callbacks) {
+    Impl& im = *impl_;
+    gpu::Context& ctx = *im.context;
+    GpuOutput out;
+    const double compiledBefore = im.compileSeconds;
+    const auto progress = [&](double f) {
+        if (callbacks.progress) callbacks.progress(f);
+    };
+
+    // The phase function as a compile-time variant when every medium has the same kind (the common case).
+    int phaseKind = scene.frame.mediumCount > 0 ? scene.frame.media[0].phase.kind : shader::kPhaseIsotropic;
+    for (int m = 1; m < scene.frame.mediumCount; ++m)
+        if (scene.frame.media[m].phase.kind != phaseKind) phaseKind = -1;
+
+    const std::uint32_t particleCount = std::uint32_t(scene.particles.size());
+    auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
+    auto particles = upload(scene.particles);
+    gpu::Buffer frame(ctx, sizeof(shader::IsvFrame));
+    frame.upload(&scene.frame, sizeof(shader::IsvFrame));
+    ViewBlock viewBlock{scene.camera, scene.nearPlane, scene.width, scene.height, std::int32_t(particleCount)};
+    gpu::Buffer view(ctx, sizeof(ViewBlock));
+    view.upload(&viewBlock, sizeof(ViewBlock));
+    auto nodes = upload(scene.surfaces.bvh.nodes);
+    auto triangles = upload(scene.surfaces.bvh.triangles);
+    auto surfaceTriangles = upload(scene.surfaces.triangles);
+    auto materials = upload(scene.surfaces.materials);
+    const std::uint32_t sortCount = std::max<std::uint32_t>(1u, std::bit_ceil(std::max(particleCount, 1u)));
+    gpu::Buffer order(ctx, VkDeviceSize(sortCount) * sizeof(glm::uvec2));
+
+    auto sliced = [&](std::uint64_t total, const gpu::SliceRecorder& record, std::uint64_t first, double& ms) {
+        const gpu::SliceStats s = gpu::runSliced(ctx, total, record, callbacks.cancel, 10.0, first);
+        ms += s.totalMs;
+        out.timings.longestSliceMs = std::max(out.timings.longestSliceMs, s.longestMs);
+    };
+
+    // 1. The opaque shadow map.
+    const shader::IsvLightSpace& sm = scene.frame.shadowMap;
+    const std::uint64_t shadowTexels = scene.shadowMap ? std::uint64_t(sm.size) * sm.size : 1;
+    gpu::Buffer shadow(ctx, shadowTexels * sizeof(float));
+    if (scene.shadowMap) {
+        gpu::ComputeKernel& k = im.kernel("shadow_map.comp.glsl", 4, sizeof(RangePush), true);
+        const std::vector<const gpu::Buffer*> b{nodes.get(), triangles.get(), &frame, &shadow};
+        sliced(
+            shadowTexels,
+            [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t n) {
+                RangePush push{std::uint32_t(begin), std::uint32_t(begin + n)};
+                k.record(cmd, b, &push, groups(n));
+            },
+            4096, out.timings.shadowMapMs);
+        k.resetDescriptors();
+    } else {
+        shadow.fill(0u);
+    }
+    progress(0.1);
+
+    // 2. The volumetric shadow map: every particle drawn into each slab it meets, then the slabs summed into slices.
+    const shader::IsvLightSpace& vg = scene.frame.vsm;
+    const std::uint64_t vsmTexels = scene.vsm ? std::uint64_t(vg.size) * vg.size : 1;
+    gpu::Buffer vsm(ctx, vsmTexels * (scene.vsm ? vg.slices : 1) * sizeof(float));
+    if (scene.vsm) {
+        const std::uint32_t slabs = std::uint32_t(vg.slices - 1);
+        gpu::RenderTarget target(ctx, std::uint32_t(vg.size), std::uint32_t(vg.size), VK_FORMAT_R32_SFLOAT, slabs);
+        gpu::GraphicsPipeline& pipeline = im.proxies(true, phaseKind);
+        const std::vector<const gpu::Buffer*> b{particles.get(), &order, &frame, &view};
+        sliced(
+            std::uint64_t(slabs) * particleCount,
+            [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t n) {
+                for (std::uint64_t i = begin; i < begin + n;) {
+                    const std::uint32_t slab = std::uint32_t(i / particleCount);
+                    const std::uint32_t first = std::uint32_t(i % particleCount);
+                    const std::uint32_t count = std::uint32_t(std::min<std::uint64_t>(particleCount - first,
+                                                                                      begin + n - i));
+                    gpu::PassDesc pass;
+                    pass.colour = {gpu::AttachmentRef{&target, slab}};
+                    pass.load = first == 0 ? gpu::LoadOp::Clear : gpu::LoadOp::Load;
+                    pipeline.beginPass(cmd, pass);
+                    const ProxyPush push{std::int32_t(slab), 0};
+                    pipeline.draw(cmd, b, &push, count, 1, first);
+                    pipeline.endPass(cmd);
+                    i += count;
+                }
+            },
+            256, out.timings.vsmMs);
+        pipeline.resetDescriptors();
+        gpu::Buffer slabBuffer(ctx, vsmTexels * slabs * sizeof(float));
+        gpu::ComputeKernel& sum = im.kernel("vsm_sum.comp.glsl", 2, sizeof(SumPush), false);
+        out.timings.vsmMs += ctx.submitTimed([&](VkCommandBuffer cmd) {
+            target.recordCopyAll(cmd, slabBuffer);
+            const SumPush push{std::uint32_t(vsmTexels), std::uint32_t(vg.slices)};
+            sum.record(cmd, {&slabBuffer, &vsm}, &push, groups(vsmTexels));
+            gpu::computeToGraphicsBarrier(cmd);
+        });
+        sum.resetDescriptors();
+    } else {
+        vsm.fill(0u);
+    }
+    progress(0.3);
+
+    // 3. The surfaces seen from the camera: the colour the particles are blended over and where they are clipped.
+    const std::uint64_t pixels = std::uint64_t(scene.width) * scene.height;
+    gpu::Buffer surfaces(ctx, pixels * sizeof(glm::vec4));
+    {
+        gpu::ComputeKernel& k = im.kernel("surfaces.comp.glsl", 9, sizeof(RangePush), true);
+        const std::vector<const gpu::Buffer*> b{nodes.get(), triangles.get(), surfaceTriangles.get(), materials.get(),
+                                               &frame,      &view,           &vsm,                   &shadow,
+                                               &surfaces};
+        sliced(
+            pixels,
+            [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t n) {
+                RangePush push{std::uint32_t(begin), std::uint32_t(begin + n)};
+                k.record(cmd, b, &push, groups(n));
+                gpu::computeToGraphicsBarrier(cmd);
+            },
+            4096, out.timings.surfacesMs);
+        k.resetDescriptors();
+    }
+    progress(0.5);
+
+    // 4. Back to front: keys, then the bitonic network.
+    {
+        gpu::ComputeKernel& k = im.kernel("sort.comp.glsl", 3, sizeof(SortPush), false);
+        const std::vector<const gpu::Buffer*> b{particles.get(), &order, &view};
+        out.timings.sortMs += ctx.submitTimed([&](VkCommandBuffer cmd) {
+            SortPush push{sortCount, 0u, 0u};
+            k.record(cmd, b, &push, groups(sortCount));
+            gpu::computeToComputeBarrier(cmd);
+            for (std::uint32_t size = 2; size <= sortCount; size <<= 1)
+                for (std::uint32_t j = size >> 1; j > 0; j >>= 1) {
+                    push = SortPush{sortCount, size, j};
+                    k.record(cmd, b, &push, groups(sortCount));
+                    gpu::computeToComputeBarrier(cmd);
+                }
+            gpu::computeToGraphicsBarrier(cmd);
+        });
+        k.resetDescriptors();
+    }
+    progress(0.6);
+
+    // 5. The particles over the surfaces, back to front, in slices of about 10 ms.
+    gpu::RenderTarget target(ctx, std::uint32_t(scene.width), std::uint32_t(scene.height),
+                             VK_FORMAT_R32G32B32A32_SFLOAT);
+    {
+        gpu::GraphicsPipeline& bg = im.background();
+        out.timings.particlesMs += ctx.submitTimed([&](VkCommandBuffer cmd) {
+            gpu::PassDesc pass;
+            pass.colour = {gpu::AttachmentRef{&target, 0}};
+            pass.load = gpu::LoadOp::Clear;
+            bg.beginPass(cmd, pass);
+            const std::int32_t width = scene.width;
+            bg.draw(cmd, {&surfaces}, &width, 3);
+            bg.endPass(cmd);
+        });
+        bg.resetDescriptors();
+    }
+    if (particleCount > 0) {
+        gpu::GraphicsPipeline& pipeline = im.proxies(false, phaseKind);
+        const std::vector<const gpu::Buffer*> b{particles.get(), &order, &frame, &view, &vsm, &shadow, &surfaces};
+        sliced(
+            particleCount,
+            [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t n) {
+                progress(0.6 + 0.4 * double(begin) / double(particleCount));
+                gpu::PassDesc pass;
+                pass.colour = {gpu::AttachmentRef{&target, 0}};
+                pass.load = gpu::LoadOp::Load;
+                pipeline.beginPass(cmd, pass);
+                const ProxyPush push{-1, 1};
+                pipeline.draw(cmd, b, &push, std::uint32_t(n), 1, std::uint32_t(begin));
+                pipeline.endPass(cmd);
+            },
+            256, out.timings.particlesMs);
+        pipeline.resetDescriptors();
+    }
+
+    const std::vector<float> values = target.readback(0);
+    out.pixels.resize(pixels);
+    for (std::uint64_t i = 0; i < pixels; ++i)
+        out.pixels[i] = glm::vec4(values[4 * i], values[4 * i + 1], values[4 * i + 2], values[4 * i + 3]);
+    out.deviceName = ctx.device().name;
+    out.timings.totalMs = out.timings.shadowMapMs + out.timings.vsmMs + out.timings.surfacesMs + out.timings.sortMs +
+                          out.timings.particlesMs;
+    out.timings.compileSeconds = im.compileSeconds - compiledBefore;
+    return out;
+}
+
+}  // namespace tyndall::isv
