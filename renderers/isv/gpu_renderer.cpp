@@ -75,30 +75,28 @@ struct GpuRenderer::Impl {
 
     bool words() const { return context->device().shaderFloat64; }
 
-    gpu::ComputeKernel& kernel(const std::string& file, std::uint32_t bindings, std::uint32_t pushBytes,
-                               bool bvh) {
-        const std::string key = file + (bvh && words() ? "-w" : "");
+    gpu::ComputeKernel& kernel(const std::string& file, std::uint32_t bindings, std::uint32_t pushBytes, bool bvh,
+                               const std::string& variant = "") {
+        const std::string defines = (bvh && words() ? "#define TY_BVH_WORDS\n" : "") + variant;
+        const std::string key = file + "\n" + defines;
         auto it = kernels.find(key);
         if (it != kernels.end()) return *it->second;
         const auto start = std::chrono::steady_clock::now();
-        const std::string defines = bvh && words() ? "#define TY_BVH_WORDS\n" : "";
         auto k = std::make_unique<gpu::ComputeKernel>(*context, compileStage(file, gpu::ShaderStage::Compute, defines),
-                                                      bindings, pushBytes, "isv_" + key);
+                                                      bindings, pushBytes, "isv_" + file);
         compileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return *kernels.emplace(key, std::move(k)).first->second;
     }
 
     // The proxies' pipeline: the camera's (premultiplied-under blending into RGBA) or the volumetric shadow map's
     // (additive into R32). The phase function is a compile-time variant when the particles share one kind.
-    gpu::GraphicsPipeline& proxies(bool lightView, int phaseKind) {
-        const std::string key = std::string(lightView ? "vsm" : "camera") + "-" + std::to_string(phaseKind);
+    gpu::GraphicsPipeline& proxies(bool lightView, const std::string& defines) {
+        const std::string key = std::string(lightView ? "vsm\n" : "camera\n") + defines;
         auto it = pipelines.find(key);
         if (it != pipelines.end()) return *it->second;
         const auto start = std::chrono::steady_clock::now();
-        std::string defines;
-        if (phaseKind >= 0) defines += "#define TY_PHASE_KIND " + std::to_string(phaseKind) + "\n";
         gpu::GraphicsPipelineDesc desc;
-        desc.name = "isv_" + key;
+        desc.name = lightView ? "isv_vsm" : "isv_particles";
         desc.vertex = compileStage("proxy.vert.glsl", gpu::ShaderStage::Vertex, "");
         desc.geometry = compileStage("proxy.geom.glsl", gpu::ShaderStage::Geometry,
                                      lightView ? "#define TY_ISV_LIGHT_VIEW\n" : "");
@@ -142,10 +140,20 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
         if (callbacks.progress) callbacks.progress(f);
     };
 
-    // The phase function as a compile-time variant when every medium has the same kind (the common case).
-    int phaseKind = scene.frame.mediumCount > 0 ? scene.frame.media[0].phase.kind : shader::kPhaseIsotropic;
-    for (int m = 1; m < scene.frame.mediumCount; ++m)
-        if (scene.frame.media[m].phase.kind != phaseKind) phaseKind = -1;
+    // The frame's settings as compile-time variants (lavapipe pays for every branch compiled in), and the phase
+    // function's kind when every medium has the same one (the common case).
+    const shader::IsvFrame& f = scene.frame;
+    int phaseKind = f.mediumCount > 0 ? f.media[0].phase.kind : shader::kPhaseIsotropic;
+    for (int m = 1; m < f.mediumCount; ++m)
+        if (f.media[m].phase.kind != phaseKind) phaseKind = -1;
+    auto define = [](const char* name, int value) {
+        return std::string("#define ") + name + " " + std::to_string(value) + "\n";
+    };
+    const std::string maps = define("TY_ISV_VSM", f.hasVsm) + define("TY_ISV_SHADOW_MAP", f.hasShadowMap) +
+                             define("TY_ISV_PCF", f.pcfRadius);
+    std::string shading = maps + define("TY_ISV_INTEGRATION", f.integration) + define("TY_ISV_STEPS", f.steps) +
+                          define("TY_ISV_FADING", f.fading);
+    if (phaseKind >= 0) shading += define("TY_PHASE_KIND", phaseKind);
 
     const std::uint32_t particleCount = std::uint32_t(scene.particles.size());
     auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
@@ -195,7 +203,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
     if (scene.vsm) {
         const std::uint32_t slabs = std::uint32_t(vg.slices - 1);
         gpu::RenderTarget target(ctx, std::uint32_t(vg.size), std::uint32_t(vg.size), VK_FORMAT_R32_SFLOAT, slabs);
-        gpu::GraphicsPipeline& pipeline = im.proxies(true, phaseKind);
+        gpu::GraphicsPipeline& pipeline = im.proxies(true, define("TY_ISV_FADING", f.fading));
         const std::vector<const gpu::Buffer*> b{particles.get(), &order, &frame, &view};
         sliced(
             std::uint64_t(slabs) * particleCount,
@@ -235,7 +243,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
     const std::uint64_t pixels = std::uint64_t(scene.width) * scene.height;
     gpu::Buffer surfaces(ctx, pixels * sizeof(glm::vec4));
     {
-        gpu::ComputeKernel& k = im.kernel("surfaces.comp.glsl", 9, sizeof(RangePush), true);
+        gpu::ComputeKernel& k = im.kernel("surfaces.comp.glsl", 9, sizeof(RangePush), true, maps);
         const std::vector<const gpu::Buffer*> b{nodes.get(), triangles.get(), surfaceTriangles.get(), materials.get(),
                                                &frame,      &view,           &vsm,                   &shadow,
                                                &surfaces};
@@ -288,7 +296,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
         bg.resetDescriptors();
     }
     if (particleCount > 0) {
-        gpu::GraphicsPipeline& pipeline = im.proxies(false, phaseKind);
+        gpu::GraphicsPipeline& pipeline = im.proxies(false, shading);
         const std::vector<const gpu::Buffer*> b{particles.get(), &order, &frame, &view, &vsm, &shadow, &surfaces};
         sliced(
             particleCount,

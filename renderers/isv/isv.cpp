@@ -175,6 +175,11 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
         meta["gpu:totalMs"] = formatDouble(timings.totalMs);
         meta["gpu:longestSliceMs"] = formatDouble(timings.longestSliceMs);
         meta["gpu:compileSeconds"] = formatDouble(timings.compileSeconds);
+        meta["gpu:shadowMapMs"] = formatDouble(timings.shadowMapMs);
+        meta["gpu:vsmMs"] = formatDouble(timings.vsmMs);
+        meta["gpu:surfacesMs"] = formatDouble(timings.surfacesMs);
+        meta["gpu:sortMs"] = formatDouble(timings.sortMs);
+        meta["gpu:particlesMs"] = formatDouble(timings.particlesMs);
     }
     return result;
 }

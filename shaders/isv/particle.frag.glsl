@@ -4,6 +4,7 @@
 // opaque objects), shaded by shared/isv.h's isvShade; the blend state composites (C_scat, A) back to front:
 // C = C_scat + A C, alpha = A alpha (Sec. 3.2).
 #extension GL_GOOGLE_include_directive : require
+#define TY_ISV_MEDIUM_ACCESSOR
 #include "isv_view.glsl"
 
 layout(std430, set = 0, binding = 0) readonly buffer Particles { IsvParticle particles[]; };
@@ -15,6 +16,7 @@ layout(std430, set = 0, binding = 6) readonly buffer Surfaces { vec4 surfaces[];
 
 float isvVsmTexel(int i) { return vsm[i]; }
 float isvShadowTexel(int i) { return shadowMap[i]; }
+IsvMedium isvMedium(int i) { return frame.media[i]; }
 
 layout(location = 0) noperspective in vec2 q;
 layout(location = 1) flat in uint particle;

@@ -25,5 +25,5 @@ void main() {
     vec3 origin = g.origin + gl_FragCoord.x * g.texel * g.right + gl_FragCoord.y * g.texel * g.up;
     float lo = float(push.slab) * g.depthStep;
     depth = isvSlabDepth(particles[particle], origin, g.forward, min(q.x, q.y), max(q.x, q.y), lo, lo + g.depthStep,
-                         frame.fading);
+                         TY_ISV_FADING_OF(frame));
 }

@@ -273,20 +273,83 @@ TY_FUNC float isvVisibility(TY_IN(IsvLightSpace) ls, TY_IN(vec3) x, int radius, 
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Shading a fragment (Sec. 3.6-3.12)
+//
+// A shader may fix the frame's settings when it is compiled (lavapipe runs every branch of a fragment shader, so a
+// setting known at compile time removes the code of the others): TY_ISV_INTEGRATION, TY_ISV_STEPS, TY_ISV_FADING,
+// TY_ISV_VSM (0 or 1), TY_ISV_SHADOW_MAP (0 or 1), TY_ISV_PCF. Without them the frame's values are used (the CPU).
+#ifdef TY_ISV_INTEGRATION
+#define TY_ISV_INTEGRATION_OF(f) TY_ISV_INTEGRATION
+#else
+#define TY_ISV_INTEGRATION_OF(f) (f).integration
+#endif
+#ifdef TY_ISV_STEPS
+#define TY_ISV_STEPS_OF(f) TY_ISV_STEPS
+#else
+#define TY_ISV_STEPS_OF(f) (f).steps
+#endif
+#ifdef TY_ISV_FADING
+#define TY_ISV_FADING_OF(f) TY_ISV_FADING
+#else
+#define TY_ISV_FADING_OF(f) (f).fading
+#endif
+#ifdef TY_ISV_VSM
+#define TY_ISV_VSM_OF(f) TY_ISV_VSM
+#else
+#define TY_ISV_VSM_OF(f) (f).hasVsm
+#endif
+#ifdef TY_ISV_SHADOW_MAP
+#define TY_ISV_SHADOW_MAP_OF(f) TY_ISV_SHADOW_MAP
+#else
+#define TY_ISV_SHADOW_MAP_OF(f) (f).hasShadowMap
+#endif
+#ifdef TY_ISV_PCF
+#define TY_ISV_PCF_OF(f) TY_ISV_PCF
+#else
+#define TY_ISV_PCF_OF(f) (f).pcfRadius
+#endif
+// A GLSL includer may define TY_ISV_MEDIUM_ACCESSOR and `IsvMedium isvMedium(int i)` to read a particle's medium
+// straight from its buffer: indexing a local copy of the frame by the particle's medium makes the compiler copy all of
+// it, per fragment.
+#ifdef TY_ISV_MEDIUM_ACCESSOR
+IsvMedium isvMedium(int i);
+#define TY_ISV_MEDIUM(f, i) isvMedium(i)
+#else
+#define TY_ISV_MEDIUM(f, i) (f).media[i]
+#endif
 
-// T_L(t) (Eq. 8: tau_L linear between the interval's ends) times Vis(t).
-TY_FUNC float isvLightTerm(TY_IN(IsvFrame) f, TY_IN(vec3) x, float tauL0, float tauL1, float s) {
-    float vis = f.hasShadowMap != 0 ? isvVisibility(f.shadowMap, x, f.pcfRadius, f.shadowBias) : 1.0f;
-    return exp(-mix(tauL0, tauL1, s)) * vis;
+// What every integration node of one fragment shares: the particle's extinction along the ray as
+// sigma_t(t) = peak e^(-k (t - t_c)^2) and tau_V(t0, t) = depthScale (erf(sqrt(k) (t - t_c)) - erf0) (Eq. 9-10), or
+// sigma and sigma (t - t0) without fading; tau_L at the interval's ends (Eq. 8).
+struct IsvFragment {
+    vec3 origin;
+    vec3 dir;
+    float t0, t1;
+    float tc, sk, k;
+    float peak;        // sigma e^(-k h^2)
+    float depthScale;  // peak sqrt(pi / k) / 2
+    float erf0;        // erf(sqrt(k) (t0 - t_c))
+    float tauL0, tauL1;
+    int fading;
+};
+
+TY_FUNC float isvFragmentExtinction(TY_IN(IsvFragment) g, float t) {
+    if (g.fading == 0) return g.peak;
+    float s = t - g.tc;
+    return g.peak * exp(-g.k * s * s);
 }
 
-// The integrand of Eq. 7 without K: sigma_t(t) T_V(t0, t) T_L(t) Vis(t), at t in [t0, t1].
-TY_FUNC float isvIntegrand(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origin, TY_IN(vec3) dir, float t0,
-                           float t1, float tauL0, float tauL1, float t) {
-    vec3 x = origin + t * dir;
-    float s = t1 > t0 ? (t - t0) / (t1 - t0) : 0.0f;
-    return isvExtinction(p, x, f.fading) * exp(-isvOpticalDepth(p, origin, dir, t0, t, f.fading)) *
-           isvLightTerm(f, x, tauL0, tauL1, s);
+TY_FUNC float isvFragmentDepth(TY_IN(IsvFragment) g, float t) {
+    if (g.fading == 0) return g.peak * (t - g.t0);
+    return g.depthScale * max(isvErf(g.sk * (t - g.tc)) - g.erf0, 0.0f);
+}
+
+// The integrand of Eq. 7 without K: sigma_t(t) T_V(t0, t) T_L(t) Vis(t), T_L by Eq. 8.
+TY_FUNC float isvIntegrand(TY_IN(IsvFrame) f, TY_IN(IsvFragment) g, float t) {
+    float s = g.t1 > g.t0 ? (t - g.t0) / (g.t1 - g.t0) : 0.0f;
+    float vis = 1.0f;
+    if (TY_ISV_SHADOW_MAP_OF(f) != 0)
+        vis = isvVisibility(f.shadowMap, g.origin + t * g.dir, TY_ISV_PCF_OF(f), f.shadowBias);
+    return isvFragmentExtinction(g, t) * exp(-isvFragmentDepth(g, t) - mix(g.tauL0, g.tauL1, s)) * vis;
 }
 
 // (1 - e^-x) / x, exact at x -> 0.
@@ -299,56 +362,69 @@ TY_FUNC float isvOneMinusExpOver(float x) {
 // C_o = C_scat + A C (Sec. 3.2): C_scat of Eq. 7 (plus Eq. 11's C_mul) and A = T_V(t0, t1).
 TY_FUNC vec4 isvShade(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origin, TY_IN(vec3) dir, float t0,
                       float t1) {
+    int integration = TY_ISV_INTEGRATION_OF(f);
     float length = t1 - t0;
-    if (f.integration == kIsvChord) return vec4(max(length, 0.0f), 0.0f, 0.0f, 1.0f);
+    if (integration == kIsvChord) return vec4(max(length, 0.0f), 0.0f, 0.0f, 1.0f);
     if (!(length > 0.0f)) return vec4(0.0f, 0.0f, 0.0f, 1.0f);
-    bool constant = f.integration == kIsvAnalytic || f.fading == 0;
-    float tauV = constant ? p.sigma * length : isvOpticalDepth(p, origin, dir, t0, t1, 1);
+
+    IsvFragment g;
+    g.origin = origin;
+    g.dir = dir;
+    g.t0 = t0;
+    g.t1 = t1;
+    g.fading = integration == kIsvAnalytic ? 0 : TY_ISV_FADING_OF(f);
+    vec3 oc = p.centre - origin;
+    g.tc = dot(oc, dir);
+    vec3 perpendicular = oc - g.tc * dir;  // not |oc|^2 - t_c^2, which cancels in float far from the particle
+    g.k = p.k;
+    g.sk = sqrt(p.k);
+    g.peak = g.fading != 0 ? p.sigma * exp(-p.k * dot(perpendicular, perpendicular)) : p.sigma;
+    g.depthScale = g.peak * (0.886226925f / g.sk);  // sqrt(pi) / 2
+    g.erf0 = g.fading != 0 ? isvErf(g.sk * (t0 - g.tc)) : 0.0f;
+    float tauV = isvFragmentDepth(g, t1);
     bool below = tauV < f.threshold;
-    if (f.integration == kIsvWasted) return below ? vec4(1.0f, 0.0f, 0.0f, 1.0f) : vec4(0.0f, 1.0f, 0.0f, 1.0f);
+    if (integration == kIsvWasted) return below ? vec4(1.0f, 0.0f, 0.0f, 1.0f) : vec4(0.0f, 1.0f, 0.0f, 1.0f);
     if (below) return vec4(0.0f, 0.0f, 0.0f, 1.0f);  // Sec. 3.11: set to zero, the pixel keeps what is behind
 
-    IsvMedium medium = f.media[p.medium];
-    float phase = phaseEval(medium.phase, -dot(dir, f.lightDirection));
-    vec3 k = f.irradiance * medium.albedo * phase;  // K = R rho p(L, V)
-
-    vec3 x0 = origin + t0 * dir, x1 = origin + t1 * dir;
-    float tauL0 = f.hasVsm != 0 ? isvLightOpticalDepth(f.vsm, x0) : 0.0f;
-    float tauL1 = f.hasVsm != 0 ? isvLightOpticalDepth(f.vsm, x1) : 0.0f;
+    float phase = phaseEval(TY_ISV_MEDIUM(f, p.medium).phase, -dot(dir, f.lightDirection));
+    vec3 k = f.irradiance * TY_ISV_MEDIUM(f, p.medium).albedo * phase;  // K = R rho p(L, V)
+    g.tauL0 = 0.0f;
+    g.tauL1 = 0.0f;
+    if (TY_ISV_VSM_OF(f) != 0) {
+        g.tauL0 = isvLightOpticalDepth(f.vsm, origin + t0 * dir);
+        g.tauL1 = isvLightOpticalDepth(f.vsm, origin + t1 * dir);
+    }
 
     float integral = 0.0f;
-    if (f.integration == kIsvAnalytic) {
+    if (integration == kIsvAnalytic) {
         // Sec. 3.7 with Eq. 8: sigma L (e^-tau_min - e^(-sigma L - tau_max)) / (sigma L + tau_max - tau_min), written
         // as sigma L e^-tau_min (1 - e^-x) / x with x = sigma L + tau_max - tau_min; Vis at the midpoint.
-        float vis = f.hasShadowMap != 0
-                        ? isvVisibility(f.shadowMap, origin + (t0 + 0.5f * length) * dir, f.pcfRadius, f.shadowBias)
-                        : 1.0f;
-        integral = tauV * exp(-tauL0) * isvOneMinusExpOver(tauV + tauL1 - tauL0) * vis;
-    } else if (f.integration == kIsvTaylor) {
+        float vis = 1.0f;
+        if (TY_ISV_SHADOW_MAP_OF(f) != 0)
+            vis = isvVisibility(f.shadowMap, origin + (t0 + 0.5f * length) * dir, TY_ISV_PCF_OF(f), f.shadowBias);
+        integral = tauV * exp(-g.tauL0) * isvOneMinusExpOver(tauV + g.tauL1 - g.tauL0) * vis;
+    } else if (integration == kIsvTaylor) {
         // Sec. 3.9: the first four terms of the Taylor series about the midpoint a, integrated over [t0, t1]; the odd
         // terms vanish there, leaving f(a) L + f''(a) L^3 / 24, with f'' by forward differences of step h = L / 4.
         float h = 0.25f * length, a = t0 + 0.5f * length;
-        float fa = isvIntegrand(f, p, origin, dir, t0, t1, tauL0, tauL1, a);
-        float fh = isvIntegrand(f, p, origin, dir, t0, t1, tauL0, tauL1, a + h);
-        float f2h = isvIntegrand(f, p, origin, dir, t0, t1, tauL0, tauL1, a + 2.0f * h);
+        float fa = isvIntegrand(f, g, a), fh = isvIntegrand(f, g, a + h), f2h = isvIntegrand(f, g, a + 2.0f * h);
         integral = max(0.0f, fa * length + (f2h - 2.0f * fh + fa) / (h * h) * length * length * length / 24.0f);
     } else {
         // Sec. 3.10: composite Simpson over `steps` equal sub-intervals.
-        int n = max(f.steps, 1);
+        int n = max(TY_ISV_STEPS_OF(f), 1);
         float w = length / float(n);
-        float sum = isvIntegrand(f, p, origin, dir, t0, t1, tauL0, tauL1, t0);
+        float sum = isvIntegrand(f, g, t0);
         for (int i = 0; i < n; ++i) {
             float a = t0 + float(i) * w;
-            sum += 4.0f * isvIntegrand(f, p, origin, dir, t0, t1, tauL0, tauL1, a + 0.5f * w) +
-                   2.0f * isvIntegrand(f, p, origin, dir, t0, t1, tauL0, tauL1, a + w);
+            sum += 4.0f * isvIntegrand(f, g, a + 0.5f * w) + 2.0f * isvIntegrand(f, g, a + w);
         }
-        sum -= isvIntegrand(f, p, origin, dir, t0, t1, tauL0, tauL1, t1);  // the last end has weight 1, not 2
+        sum -= isvIntegrand(f, g, t1);  // the last end has weight 1, not 2
         integral = sum * w / 6.0f;
     }
     vec3 colour = k * integral;
     if (f.multiScatter > 0.0f) {
         // Eq. 11: C_mul = sigma_t(mid) / sigma rho R p(L, V) 0.001 m (crude, not physically based; off by default).
-        float relative = isvExtinction(p, origin + (t0 + 0.5f * length) * dir, f.fading) / max(p.sigma, 1e-30f);
+        float relative = isvFragmentExtinction(g, t0 + 0.5f * length) / max(p.sigma, 1e-30f);
         colour += relative * k * (0.001f * f.multiScatter);
     }
     return vec4(colour, exp(-tauV));
@@ -368,8 +444,10 @@ TY_FUNC vec3 isvSurfaceRadiance(TY_IN(IsvFrame) f, TY_IN(MaterialParams) m, TY_I
     vec3 wi = -f.lightDirection;
     vec3 reflected = surfaceReflect(m, sf, wo, wi);
     if (reflected == vec3(0.0f)) return vec3(0.0f);
-    float vis = f.hasShadowMap != 0 ? isvVisibility(f.shadowMap, x, f.pcfRadius, f.shadowBias) : 1.0f;
-    float tau = f.hasVsm != 0 ? isvLightOpticalDepth(f.vsm, x) : 0.0f;
+    float vis = 1.0f;
+    if (TY_ISV_SHADOW_MAP_OF(f) != 0) vis = isvVisibility(f.shadowMap, x, TY_ISV_PCF_OF(f), f.shadowBias);
+    float tau = 0.0f;
+    if (TY_ISV_VSM_OF(f) != 0) tau = isvLightOpticalDepth(f.vsm, x);
     return f.irradiance * reflected * (vis * exp(-tau));
 }
 
