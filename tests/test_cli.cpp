@@ -1,5 +1,6 @@
 // The tyndall CLI end to end, as a user runs it: exit codes (0 ok, 1 failure, 2 bad input), messages and outputs.
 #include "tyndall/image_io.h"
+#include "tyndall/metrics.h"
 #include "tyndall/tonemap.h"
 #include "tyndall/project.h"
 
@@ -244,6 +245,32 @@ TEST(Cli, RendersThePegoraroExampleAndRefusesWhatItCannotRender) {
                                "'views[closed form].parameters.precision=quad' -o '" + out + "'");
     EXPECT_EQ(precision.exitCode, 2) << precision.output;
     EXPECT_NE(precision.output.find("double"), std::string::npos) << precision.output;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(Cli, RendersTheIsvSmokeOnBothDevicesAndRefusesAPointLight) {
+    fs::path dir = scratch("isv");
+    const std::string project = source("projects/isv/smoke.json");
+    std::vector<tyndall::Image> images;
+    for (const std::string device : {"cpu", "gpu"}) {
+        const std::string exr = (dir / ("smoke-" + device + ".exr")).string();
+        CliRun r = tyndall("render '" + project + "' --view isv --size 40x30 --set 'particleMedia[0].generator.count=300' " +
+                           "--set 'views[isv].parameters.device=" + device + "' -o '" + exr + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        images.push_back(tyndall::readImage(exr));
+        EXPECT_EQ(images.back().metadata.at("technique"), "isv");
+        EXPECT_EQ(images.back().metadata.at("isv:particles"), "300");
+        EXPECT_EQ(images.back().metadata.at("device") == "cpu", device == "cpu");
+    }
+    const tyndall::Metrics m = tyndall::computeMetrics(images[1], images[0]);
+    EXPECT_LT(m.relMSE, 1e-4) << "the GPU and the CPU model render the same image";
+    EXPECT_GT(m.pixels, 0);
+    const std::string out = (dir / "refused.exr").string();
+    CliRun point = tyndall("render '" + project + "' --view isv --size 8x6 --set " +
+                           "'lights[+]={\"name\": \"bulb\", \"type\": \"point\"}' --set 'views[isv].lights=[\"bulb\"]' --set 'views[isv].media=[\"smoke\"]' -o '" +
+                           out + "'");
+    EXPECT_EQ(point.exitCode, 2) << point.output;
+    EXPECT_NE(point.output.find("perspective volumetric shadow map"), std::string::npos) << point.output;
     EXPECT_FALSE(fs::exists(out));
 }
 

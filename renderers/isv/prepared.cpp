@@ -17,6 +17,12 @@
 
 namespace tyndall::isv {
 
+// The std430 sizes the GLSL side sees (shaders/shared/isv.h).
+static_assert(sizeof(shader::IsvParticle) == 80);
+static_assert(sizeof(shader::IsvMedium) == 176);
+static_assert(sizeof(shader::IsvLightSpace) == 64);
+static_assert(sizeof(shader::IsvFrame) == 192 + 4 * 176);
+
 namespace {
 
 thread_local const std::vector<float>* gVsm = nullptr;

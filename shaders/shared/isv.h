@@ -43,11 +43,12 @@ struct IsvParticle {
     float pad1;
 };
 
-// A particle medium's optics, std430.
+// A particle medium's optics, std430: 176 bytes (the vec3 makes its alignment 16, so GLSL rounds 164 up).
 struct IsvMedium {
     vec3 albedo;
     float pad0;
     PhaseParams phase;
+    float pad1[3];
 };
 
 // An orthographic grid seen from a directional light, std430, 64 bytes. Texel (x, y) of slice s is centred on

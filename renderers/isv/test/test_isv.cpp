@@ -549,8 +549,20 @@ TEST_F(IsvGpu, CameraInsideTheCloudCullsTheSameParticles) {
 }
 
 TEST_F(IsvGpu, GpuMatchesTheCpuModel) {
-    for (const char* integration : {"simpson", "analytic", "taylor"}) {
-        const Scene scene = cloudScene(60, true, 40, 30);
+    for (const char* integration : {"simpson", "analytic", "taylor", "two media"}) {
+        Scene scene = cloudScene(60, true, 40, 30);
+        if (std::string(integration) == "two media") {
+            // A second medium of another colour and phase function: the media array's layout and the run-time
+            // phase kind.
+            ParticleMedium second = scene.particleMedia[0];
+            second.name = "dust";
+            second.albedo = Rgb(0.2, 0.5, 0.9);
+            second.phase = PhaseFunction{};
+            second.generator->seed = 8;
+            second.generator->region.centre = Vec3(0.5, 1.2, -0.3);
+            scene.particleMedia.push_back(second);
+            integration = "simpson";
+        }
         const std::map<std::string, ParamValue> common{{"integration", std::string(integration)},
                                                        {"steps", std::int64_t(2)},
                                                        {"vsmResolution", std::int64_t(48)},
