@@ -91,6 +91,8 @@ enum class ObjectKind {
     ParticleMedium,
     Particle,
     Generator,
+    Simulation,
+    Impulse,
     Light,  // point, directional or area, by its "type"
     PointLight,
     DirectionalLight,

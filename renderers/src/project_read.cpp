@@ -22,6 +22,10 @@ constexpr std::size_t kMaxPolynomialTerms = 32;
 constexpr int kMaxSpotExponent = 256;
 constexpr int kMaxImageSize = 16384;
 constexpr int kMaxParticleCount = 1'000'000;         // per generator
+constexpr int kMaxSimulationSteps = 100'000;
+constexpr int kMaxSimulationImpulses = 1000;
+constexpr double kMaxSimulationSpeed = 1000.0;       // m/s
+constexpr double kMaxSimulationWork = 2e8;           // steps times particles
 constexpr std::size_t kMaxTotalParticles = 2'000'000;  // in all particle media together
 constexpr double kMaxExposure = 20.0;  // EV stops either way
 constexpr double kMinRoughness = 1e-3;
@@ -334,6 +338,46 @@ ParticleGenerator readGenerator(const JsonField& f) {
     return g;
 }
 
+ParticleImpulse readImpulse(const JsonField& f, int steps) {
+    f.expectObject(keyNames(K::Impulse));
+    ParticleImpulse impulse;
+    impulse.step = f["step"].intInRangeOr(impulse.step, 0, std::max(steps - 1, 0));
+    impulse.position = readPoint(f["position"], impulse.position);
+    impulse.radius = f["radius"].numberOr(impulse.radius);
+    requireAbove(f["radius"], impulse.radius, 0.0);
+    requireInWorld(f["radius"], impulse.position, impulse.radius);
+    impulse.speed = f["speed"].numberOr(impulse.speed);
+    requireAtLeast(f["speed"], impulse.speed, 0.0);
+    if (impulse.speed > kMaxSimulationSpeed)
+        f["speed"].fail("must be at most " + formatNumber(kMaxSimulationSpeed) + " m/s, got " + formatNumber(impulse.speed));
+    return impulse;
+}
+
+ParticleSimulation readSimulation(const JsonField& f) {
+    f.expectObject(keyNames(K::Simulation));
+    ParticleSimulation sim;
+    sim.steps = f["steps"].intInRangeOr(sim.steps, 0, kMaxSimulationSteps);
+    sim.timeStep = f["timeStep"].numberOr(sim.timeStep);
+    requireAbove(f["timeStep"], sim.timeStep, 0.0);
+    if (sim.timeStep > 1.0) f["timeStep"].fail("must be in (0, 1] s, got " + formatNumber(sim.timeStep));
+    sim.stiffness = f["stiffness"].numberOr(sim.stiffness);
+    requireAtLeast(f["stiffness"], sim.stiffness, 0.0);
+    sim.viscosity = f["viscosity"].numberOr(sim.viscosity);
+    requireAtLeast(f["viscosity"], sim.viscosity, 0.0);
+    // Semi-implicit Euler stays bounded for a damped spring while (stiffness dt^2 + 2 viscosity dt) <= 4.
+    if (sim.stiffness * sim.timeStep * sim.timeStep + 2.0 * sim.viscosity * sim.timeStep > 4.0)
+        f["timeStep"].fail("is too long for this stiffness and viscosity: stiffness * timeStep^2 + 2 * viscosity * "
+                           "timeStep must be at most 4 (the simulation would blow up), got " +
+                           formatNumber(sim.stiffness * sim.timeStep * sim.timeStep + 2.0 * sim.viscosity * sim.timeStep));
+    sim.offset = f["offset"].vec3Or(sim.offset);
+    requireInWorld(f["offset"], sim.offset, 0.0);
+    forEachElement(f["impulses"], [&](const JsonField& i) { sim.impulses.push_back(readImpulse(i, sim.steps)); });
+    if (sim.impulses.size() > std::size_t(kMaxSimulationImpulses))
+        f["impulses"].fail("at most " + std::to_string(kMaxSimulationImpulses) + " impulses, got " +
+                           std::to_string(sim.impulses.size()));
+    return sim;
+}
+
 ParticleMedium readParticleMedium(const JsonField& f) {
     f.expectObject(keyNames(K::ParticleMedium));
     ParticleMedium medium;
@@ -345,6 +389,14 @@ ParticleMedium readParticleMedium(const JsonField& f) {
     medium.phase = readPhase(f["phase"]);
     forEachElement(f["particles"], [&](const JsonField& p) { medium.particles.push_back(readParticle(p)); });
     if (f["generator"].present()) medium.generator = readGenerator(f["generator"]);
+    if (f["simulation"].present()) {
+        medium.simulation = readSimulation(f["simulation"]);
+        const double work = double(medium.simulation->steps) *
+                            double(medium.particles.size() + (medium.generator ? medium.generator->count : 0));
+        if (work > kMaxSimulationWork)
+            f["simulation"]["steps"].fail("steps times particles must be at most " + formatNumber(kMaxSimulationWork) +
+                                          " (the simulation runs before every render), got " + formatNumber(work));
+    }
     return medium;
 }
 

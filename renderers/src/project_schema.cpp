@@ -34,10 +34,14 @@ constexpr KeySpec kParticleMediumKeys[] = {
     {"phase", K::Phase},
     {"particles", K::Particle, true},
     {"generator", K::Generator},
+    {"simulation", K::Simulation},
 };
 constexpr KeySpec kParticleKeys[] = {{"centre"}, {"scale"}, {"orientation"}, {"extinctionMultiplier"}, {"falloff"}};
 constexpr KeySpec kGeneratorKeys[] = {{"count"},   {"seed"},          {"region", K::Box}, {"scale"},
                                       {"falloff"}, {"multiplierMin"}, {"multiplierMax"}};
+constexpr KeySpec kSimulationKeys[] = {{"steps"},  {"timeStep"}, {"stiffness"},
+                                       {"viscosity"}, {"offset"}, {"impulses", K::Impulse, true}};
+constexpr KeySpec kImpulseKeys[] = {{"step"}, {"position"}, {"radius"}, {"speed"}};
 constexpr KeySpec kPointLightKeys[] = {
     {"type"}, {"name"}, {"position"}, {"intensity"}, {"distribution", K::Distribution}};
 constexpr KeySpec kDirectionalLightKeys[] = {{"type"}, {"name"}, {"direction"}, {"irradiance"}, {"gobo"}};
@@ -82,6 +86,10 @@ std::span<const KeySpec> keySpecs(ObjectKind kind) {
             return kParticleKeys;
         case K::Generator:
             return kGeneratorKeys;
+        case K::Simulation:
+            return kSimulationKeys;
+        case K::Impulse:
+            return kImpulseKeys;
         case K::Light:
             return kAnyLightKeys;
         case K::PointLight:

@@ -105,6 +105,15 @@ json toJson(const ParticleGenerator& g) {
             {"multiplierMax", g.multiplierMax}};
 }
 
+json toJson(const ParticleSimulation& sim) {
+    json impulses = json::array();
+    for (const ParticleImpulse& i : sim.impulses)
+        impulses.push_back(
+            {{"step", i.step}, {"position", toJson(i.position)}, {"radius", i.radius}, {"speed", i.speed}});
+    return {{"steps", sim.steps},         {"timeStep", sim.timeStep}, {"stiffness", sim.stiffness},
+            {"viscosity", sim.viscosity}, {"offset", toJson(sim.offset)}, {"impulses", impulses}};
+}
+
 json toJson(const ParticleMedium& medium) {
     json particles = json::array();
     for (const Particle& p : medium.particles)
@@ -115,6 +124,7 @@ json toJson(const ParticleMedium& medium) {
               {"phase", toJson(medium.phase)},
               {"particles", particles}};
     if (medium.generator) j["generator"] = toJson(*medium.generator);
+    if (medium.simulation) j["simulation"] = toJson(*medium.simulation);
     return j;
 }
 

@@ -135,7 +135,32 @@ std::vector<Particle> ParticleMedium::allParticles() const {
         const std::vector<Particle> generated = generateParticles(*generator);
         all.insert(all.end(), generated.begin(), generated.end());
     }
+    if (simulation) all = simulateParticles(std::move(all), *simulation);
     return all;
+}
+
+std::vector<Particle> simulateParticles(std::vector<Particle> particles, const ParticleSimulation& sim) {
+    std::vector<Vec3> targets(particles.size()), velocities(particles.size(), Vec3(0.0));
+    for (std::size_t i = 0; i < particles.size(); ++i)
+        targets[i] = particles[i].centre + sim.offset;
+    const double dt = sim.timeStep;
+    for (int step = 0; step < sim.steps; ++step) {
+        for (const ParticleImpulse& impulse : sim.impulses) {
+            if (impulse.step != step) continue;
+            for (std::size_t i = 0; i < particles.size(); ++i) {
+                const Vec3 away = particles[i].centre - impulse.position;
+                const double d = glm::length(away);
+                if (d >= impulse.radius || d == 0.0) continue;
+                velocities[i] += (impulse.speed * (1.0 - d / impulse.radius) / d) * away;
+            }
+        }
+        for (std::size_t i = 0; i < particles.size(); ++i) {
+            // Semi-implicit Euler: the velocity first, then the position with the new velocity.
+            velocities[i] += dt * (sim.stiffness * (targets[i] - particles[i].centre) - sim.viscosity * velocities[i]);
+            particles[i].centre += dt * velocities[i];
+        }
+    }
+    return particles;
 }
 
 std::vector<double> legendreToMonomial(const std::vector<double>& a) {

@@ -130,6 +130,31 @@ struct ParticleGenerator {
     double multiplierMax = 10.0;
 };
 
+// A push on the particles near a point (ISV thesis Sec. 3.14: "an impulse to any particles that are close to the mouse
+// cursor"), at the start of one step of the simulation.
+struct ParticleImpulse {
+    int step = 0;        // the step it is applied at, [0, steps)
+    Vec3 position{0.0};  // m, where it pushes from
+    double radius = 0.5;  // m, > 0: particles closer than this are pushed away
+    double speed = 1.0;   // m/s, >= 0: the velocity given to a particle at the centre, falling linearly to 0 at radius
+};
+
+// The particle simulation of ISV thesis Sec. 3.14, deterministic so that a frame of the animation is a scene every
+// renderer (the reference too) renders alike. Each particle starts at rest at its place (explicit or generated) and is
+// drawn towards its target, that place moved with the region by `offset`, by a spring of `stiffness`; `viscosity`
+// damps its velocity. Semi-implicit Euler in double precision, particles in order.
+struct ParticleSimulation {
+    int steps = 0;                 // steps simulated, [0, 100000]
+    double timeStep = 1.0 / 60.0;  // s, (0, 1]
+    double stiffness = 30.0;       // 1/s^2, >= 0: acceleration per metre away from the target
+    double viscosity = 4.0;        // 1/s, >= 0: the velocity's damping rate
+    Vec3 offset{0.0};              // m: how far the region of targets has moved
+    std::vector<ParticleImpulse> impulses;
+};
+
+// The particles after `simulation`'s steps (the ISV thesis' animation), in the same order.
+std::vector<Particle> simulateParticles(std::vector<Particle> particles, const ParticleSimulation& simulation);
+
 struct ParticleMedium {
     std::string name;         // unique among media
     double extinction = 1.0;  // 1/m, base extinction sigma, >= 0
@@ -137,8 +162,9 @@ struct ParticleMedium {
     PhaseFunction phase;
     std::vector<Particle> particles;             // explicit particles ...
     std::optional<ParticleGenerator> generator;  // ... and/or generated ones (appended after the explicit ones)
+    std::optional<ParticleSimulation> simulation;  // when set, every particle is where the simulation has taken it
 
-    // Explicit particles followed by the generated ones.
+    // Explicit particles followed by the generated ones, simulated when the medium has a simulation.
     std::vector<Particle> allParticles() const;
 };
 

@@ -11,6 +11,7 @@
 #include "tyndall/error.h"
 #include "tyndall/geometry.h"
 #include "tyndall/metrics.h"
+#include "tyndall/project.h"
 #include "tyndall/render.h"
 
 #include <glm/gtc/quaternion.hpp>
@@ -403,6 +404,64 @@ TEST(IsvComposite, OverlappingParticlesBlendBackToFrontAndAReversedOrderFails) {
             EXPECT_NEAR(got[k], c[k], 1e-6f + 1e-5f * c[k]);
         EXPECT_NEAR(got.w, a, 1e-6f);
         EXPECT_GT(glm::length(glm::vec3(bad) - c), 0.02f * glm::length(c)) << "the order must matter here";
+    }
+}
+
+// -------------------------------------------------------------------------------------------------------------------
+// Animation (Sec. 3.14)
+
+TEST(IsvAnimation, TheSimulationIsDeterministicSettlesOnMovedTargetsAndImpulsesPushAway) {
+    const Scene scene = cloudScene(200, false);
+    const std::vector<Particle> rest = scene.particleMedia[0].allParticles();
+    ParticleSimulation sim;
+    EXPECT_EQ(simulateParticles(rest, sim).front().centre, rest.front().centre) << "zero steps move nothing";
+
+    // The region moved by 0.5 m: after 10 s (critically damped enough) every particle is within 1 mm of its target.
+    sim.steps = 600;
+    sim.offset = Vec3(0.5, 0.0, -0.2);
+    const std::vector<Particle> settled = simulateParticles(rest, sim);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < rest.size(); ++i)
+        worst = std::max(worst, glm::length(settled[i].centre - (rest[i].centre + sim.offset)));
+    EXPECT_LT(worst, 1e-3);
+
+    // An impulse at the cloud's centre: near particles move away from it, far ones stay; bit-identical reruns.
+    ParticleSimulation push;
+    push.steps = 10;
+    push.impulses.push_back({2, Vec3(0.0, 0.9, 0.0), 0.4, 2.0});
+    const std::vector<Particle> a = simulateParticles(rest, push), b = simulateParticles(rest, push);
+    int pushed = 0;
+    for (std::size_t i = 0; i < rest.size(); ++i) {
+        EXPECT_EQ(a[i].centre, b[i].centre);
+        const double before = glm::length(rest[i].centre - push.impulses[0].position);
+        const double after = glm::length(a[i].centre - push.impulses[0].position);
+        if (before < 0.4) {
+            EXPECT_GT(after, before) << "particle " << i;
+            ++pushed;
+        } else {
+            EXPECT_EQ(a[i].centre, rest[i].centre) << "particle " << i;
+        }
+    }
+    EXPECT_GT(pushed, 5);
+}
+
+TEST(IsvAnimation, ProjectsStoreTheSimulationAndRefuseAnUnstableOne) {
+    const std::string base = std::string(TYNDALL_SOURCE_DIR) + "/projects/isv/smoke.json";
+    const Project p = loadProject(base, {"particleMedia[0].simulation={\"steps\": 30, \"offset\": [0.2, 0, 0], "
+                                         "\"impulses\": [{\"step\": 3, \"position\": [0, 1, 0]}]}"});
+    ASSERT_TRUE(p.scene.particleMedia[0].simulation.has_value());
+    EXPECT_EQ(p.scene.particleMedia[0].simulation->impulses.size(), 1u);
+    const std::string saved = ::testing::TempDir() + "/isv-simulation.json";
+    saveProject(p, saved);
+    const Project again = loadProject(saved);
+    EXPECT_EQ(projectHash(again), projectHash(p));
+    EXPECT_NE(projectHash(again), projectHash(loadProject(base)));
+    try {
+        (void)loadProject(base, {"particleMedia[0].simulation={\"timeStep\": 0.9, \"stiffness\": 30}"});
+        ADD_FAILURE() << "an unstable time step must be refused";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("simulation.timeStep"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("blow up"), std::string::npos) << e.what();
     }
 }
 
