@@ -248,7 +248,7 @@ TEST(Cli, RendersThePegoraroExampleAndRefusesWhatItCannotRender) {
     EXPECT_FALSE(fs::exists(out));
 }
 
-TEST(Cli, RendersTheIsvSmokeOnBothDevicesAndRefusesAPointLight) {
+TEST(Cli, RendersTheIsvSmokeOnBothDevicesAndRefusesAnAreaLight) {
     fs::path dir = scratch("isv");
     const std::string project = source("projects/isv/smoke.json");
     std::vector<tyndall::Image> images;
@@ -266,11 +266,11 @@ TEST(Cli, RendersTheIsvSmokeOnBothDevicesAndRefusesAPointLight) {
     EXPECT_LT(m.relMSE, 1e-4) << "the GPU and the CPU model render the same image";
     EXPECT_GT(m.pixels, 0);
     const std::string out = (dir / "refused.exr").string();
-    CliRun point = tyndall("render '" + project + "' --view isv --size 8x6 --set " +
-                           "'lights[+]={\"name\": \"bulb\", \"type\": \"point\"}' --set 'views[isv].lights=[\"bulb\"]' --set 'views[isv].media=[\"smoke\"]' -o '" +
-                           out + "'");
-    EXPECT_EQ(point.exitCode, 2) << point.output;
-    EXPECT_NE(point.output.find("perspective volumetric shadow map"), std::string::npos) << point.output;
+    CliRun area = tyndall("render '" + project + "' --view isv --size 8x6 --set " +
+                          "'lights[+]={\"name\": \"panel\", \"type\": \"area\", \"vertices\": [[0, 3, 0], [1, 3, 0], [1, 3, 1]]}' " +
+                          "--set 'views[isv].lights=[\"panel\"]' --set 'views[isv].media=[\"smoke\"]' -o '" + out + "'");
+    EXPECT_EQ(area.exitCode, 2) << area.output;
+    EXPECT_NE(area.output.find("not a directional light"), std::string::npos) << area.output;
     EXPECT_FALSE(fs::exists(out));
 }
 

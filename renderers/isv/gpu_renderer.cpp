@@ -32,6 +32,10 @@ static_assert(sizeof(ViewBlock) == 80);
 struct RangePush {
     std::uint32_t first, end;
 };
+struct SurfacePush {
+    std::uint32_t first, end;
+    float rayOffset;
+};
 struct ProxyPush {
     std::int32_t slab;     // -1 for the camera pass
     std::int32_t ordered;  // 1: particles in the sorted order
@@ -151,8 +155,9 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
     };
     const std::string maps = define("TY_ISV_VSM", f.hasVsm) + define("TY_ISV_SHADOW_MAP", f.hasShadowMap) +
                              define("TY_ISV_PCF", f.pcfRadius);
-    std::string shading = maps + define("TY_ISV_INTEGRATION", f.integration) + define("TY_ISV_STEPS", f.steps) +
-                          define("TY_ISV_FADING", f.fading);
+    const std::string light = define("TY_ISV_LIGHT_TYPE", f.lightType);
+    std::string shading = maps + light + define("TY_ISV_INTEGRATION", f.integration) +
+                          define("TY_ISV_STEPS", f.steps) + define("TY_ISV_FADING", f.fading);
     if (phaseKind >= 0) shading += define("TY_PHASE_KIND", phaseKind);
 
     const std::uint32_t particleCount = std::uint32_t(scene.particles.size());
@@ -243,14 +248,14 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
     const std::uint64_t pixels = std::uint64_t(scene.width) * scene.height;
     gpu::Buffer surfaces(ctx, pixels * sizeof(glm::vec4));
     {
-        gpu::ComputeKernel& k = im.kernel("surfaces.comp.glsl", 9, sizeof(RangePush), true, maps);
+        gpu::ComputeKernel& k = im.kernel("surfaces.comp.glsl", 9, sizeof(SurfacePush), true, maps + light);
         const std::vector<const gpu::Buffer*> b{nodes.get(), triangles.get(), surfaceTriangles.get(), materials.get(),
                                                &frame,      &view,           &vsm,                   &shadow,
                                                &surfaces};
         sliced(
             pixels,
             [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t n) {
-                RangePush push{std::uint32_t(begin), std::uint32_t(begin + n)};
+                SurfacePush push{std::uint32_t(begin), std::uint32_t(begin + n), scene.surfaces.rayOffset};
                 k.record(cmd, b, &push, groups(n));
                 gpu::computeToGraphicsBarrier(cmd);
             },

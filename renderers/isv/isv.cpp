@@ -75,10 +75,8 @@ Support IsvTechnique::supports(const ParticleMedium&) const {
     return Support::yes();
 }
 
-Support IsvTechnique::supports(const PointLight& light) const {
-    return Support::no("the point light '" + light.name +
-                       "' needs a perspective volumetric shadow map, which ISV does not have yet; it renders "
-                       "directional lights (the thesis')");
+Support IsvTechnique::supports(const PointLight&) const {
+    return Support::yes();  // with a perspective volumetric shadow map (beyond the thesis, its future work)
 }
 
 Support IsvTechnique::supports(const DirectionalLight& light) const {
@@ -90,7 +88,9 @@ Support IsvTechnique::supports(const DirectionalLight& light) const {
 }
 
 Support IsvTechnique::supports(const AreaLight& light) const {
-    return Support::no("the area light '" + light.name + "' is not a directional light; ISV renders directional lights");
+    return Support::no("the area light '" + light.name +
+                       "' is not a directional light or a point light; ISV's shadow maps are seen from one point or "
+                       "direction (LTSD and Volume-RIS render area lights)");
 }
 
 Support IsvTechnique::supports(const Material&) const {

@@ -20,8 +20,8 @@ namespace tyndall::isv {
 // The std430 sizes the GLSL side sees (shaders/shared/isv.h).
 static_assert(sizeof(shader::IsvParticle) == 80);
 static_assert(sizeof(shader::IsvMedium) == 176);
-static_assert(sizeof(shader::IsvLightSpace) == 64);
-static_assert(sizeof(shader::IsvFrame) == 192 + 4 * 176);
+static_assert(sizeof(shader::IsvLightSpace) == 80);
+static_assert(sizeof(shader::IsvFrame) == 240 + 2 * 80 + 4 * 176);
 
 namespace {
 
@@ -47,26 +47,36 @@ void parallelChunks(int count, int grain, int threads, const std::atomic<bool>* 
     if (cancel && cancel->load()) throw Cancelled();
 }
 
-// A square orthographic grid over the light-space extents [lo, hi] (right, up, forward) with one empty texel of margin
-// on each side, so that bilinear lookups fade to zero outside the particles.
-shader::IsvLightSpace makeGrid(const glm::vec3& right, const glm::vec3& up, const glm::vec3& forward,
-                               const glm::vec3& lo, const glm::vec3& hi, int size, int slices) {
+// A square grid over the extents [lo, hi] of the particles' grid coordinates (orthographic: m; perspective: tangents)
+// and depths, with one empty texel of margin on each side, so that bilinear lookups fade to zero outside the
+// particles.
+shader::IsvLightSpace makeGrid(const glm::vec3& origin, const glm::vec3& right, const glm::vec3& up,
+                               const glm::vec3& forward, bool perspective, const glm::vec3& lo, const glm::vec3& hi,
+                               int size, int slices) {
     shader::IsvLightSpace g{};
     const float side = std::max({hi.x - lo.x, hi.y - lo.y, 1e-4f});
     g.size = size;
     g.texel = side / float(size - 2);
+    g.origin = origin;
     g.right = right;
     g.up = up;
     g.forward = forward;
-    g.origin = (lo.x - g.texel) * right + (lo.y - g.texel) * up + lo.z * forward;
+    g.perspective = perspective ? 1 : 0;
+    g.corner = glm::vec2(lo.x - g.texel, lo.y - g.texel);
+    g.depthOrigin = lo.z;
     g.slices = slices;
     g.depthStep = std::max(hi.z - lo.z, 1e-4f) / float(std::max(slices - 1, 1));
     return g;
 }
 
-// Light-space coordinates (right, up, forward) of x.
-glm::vec3 toLight(const glm::vec3& right, const glm::vec3& up, const glm::vec3& forward, const glm::vec3& x) {
-    return {glm::dot(x, right), glm::dot(x, up), glm::dot(x, forward)};
+// Grid-plane coordinates and depth of x seen from `origin` (orthographic: m; perspective: tangents, depth in m).
+glm::vec3 toLight(const glm::vec3& origin, const glm::vec3& right, const glm::vec3& up, const glm::vec3& forward,
+                  bool perspective, const glm::vec3& x) {
+    const glm::vec3 r = x - origin;
+    const float z = glm::dot(r, forward);
+    glm::vec2 plane(glm::dot(r, right), glm::dot(r, up));
+    if (perspective) plane /= z;
+    return {plane, z};
 }
 
 // The texel-centre range [first, last] whose centres (i + 1/2) texel lie in [lo, hi] (grid coordinates in m).
@@ -113,28 +123,43 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     f.fading = settings.fading ? 1 : 0;
     f.pcfRadius = settings.pcfRadius;
 
-    if (scene.directionalLights.size() > 1)
+    const std::size_t lights = scene.directionalLights.size() + scene.pointLights.size();
+    if (lights > 1)
         throw InputError(InputLocation{"", 0, 0, "lights"},
-                         "ISV renders one directional light (the thesis's); this view has " +
-                             std::to_string(scene.directionalLights.size()) +
-                             ": choose one in the view's lights");
+                         "ISV renders one light (a directional light as the thesis, or a point or spot light); this "
+                         "view has " + std::to_string(lights) + ": choose one in the view's lights");
     if (int(scene.particleMedia.size()) > shader::kIsvMaxMedia)
         throw InputError(InputLocation{"", 0, 0, "particleMedia"},
                          "ISV renders at most " + std::to_string(shader::kIsvMaxMedia) +
                              " particle media in one view; this view has " +
                              std::to_string(scene.particleMedia.size()));
-    glm::vec3 forward(0.0f, -1.0f, 0.0f);
+    f.lightType = shader::kIsvDirectional;
+    f.lightDirection = glm::vec3(0.0f, -1.0f, 0.0f);
     if (!scene.directionalLights.empty()) {
         const DirectionalLight& light = scene.directionalLights.front();
-        forward = glm::normalize(glm::vec3(light.direction));
+        f.lightDirection = glm::normalize(glm::vec3(light.direction));
         f.irradiance = glm::vec3(light.irradiance);
     }
-    f.lightDirection = forward;
-    glm::vec3 right, up;
-    shader::buildFrame(forward, right, up);
+    const PointLight* point = scene.pointLights.empty() ? nullptr : &scene.pointLights.front();
+    if (point) {
+        f.lightType = shader::kIsvPoint;
+        f.lightPosition = glm::vec3(point->position);
+        f.irradiance = glm::vec3(point->intensity);
+        f.lightAxis = glm::normalize(glm::vec3(point->distribution.axis));
+        if (point->distribution.kind == AngularDistribution::Kind::Spot) {
+            f.distributionTerms = -1;
+            f.spotExponent = float(point->distribution.spotExponent);
+        } else if (point->distribution.kind != AngularDistribution::Kind::Isotropic) {
+            const std::vector<double> c = point->distribution.polynomial();
+            TY_CHECK(c.size() <= std::size_t(shader::kIsvMaxDistributionTerms), "the loader limits the terms");
+            f.distributionTerms = int(c.size());
+            for (std::size_t k = 0; k < c.size(); ++k)
+                f.distribution[k] = float(c[k]);
+        }
+    }
 
     f.mediumCount = int(scene.particleMedia.size());
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    std::vector<glm::vec3> vertices;
     for (std::size_t m = 0; m < scene.particleMedia.size(); ++m) {
         const ParticleMedium& medium = scene.particleMedia[m];
         f.media[m].albedo = glm::vec3(medium.albedo);
@@ -151,14 +176,48 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
             const double u = particle.scale * particle.falloff;
             q.k = float(50.0 / (u * u));
             q.medium = int(m);
-            for (const Vec3& x : v) {
-                const glm::vec3 l = toLight(right, up, forward, glm::vec3(x));
-                lo = glm::min(lo, l);
-                hi = glm::max(hi, l);
-            }
+            for (const Vec3& x : v)
+                vertices.push_back(glm::vec3(x));
             p.particles.push_back(q);
         }
     }
+
+    // The light's view of the particles: orthographic along a directional light, or the frustum from a point light
+    // towards the particles' bounding box, which must lie in front of the light.
+    glm::vec3 gridOrigin(0.0f), forward = f.lightDirection;
+    if (point && !vertices.empty()) {
+        glm::vec3 bmin(std::numeric_limits<float>::max()), bmax(-std::numeric_limits<float>::max());
+        for (const glm::vec3& v : vertices) {
+            bmin = glm::min(bmin, v);
+            bmax = glm::max(bmax, v);
+        }
+        gridOrigin = f.lightPosition;
+        forward = 0.5f * (bmin + bmax) - gridOrigin;
+        const float distance = glm::length(forward);
+        if (!(distance > 0.0f))
+            throw InputError(InputLocation{"", 0, 0, "lights[" + point->name + "].position"},
+                             "the point light is at the particles' centre; ISV's perspective shadow maps need the "
+                             "particles in front of the light");
+        forward /= distance;
+    }
+    glm::vec3 right, up;
+    shader::buildFrame(forward, right, up);
+    const bool perspective = point != nullptr;
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const glm::vec3& v : vertices) {
+        const glm::vec3 l = toLight(gridOrigin, right, up, forward, perspective, v);
+        if (perspective && !(l.z > 1e-3f))
+            throw InputError(InputLocation{"", 0, 0, "lights[" + point->name + "].position"},
+                             "the point light is inside or beside the particle cloud: ISV's perspective shadow maps "
+                             "need every particle in front of the light (a cube map would be needed)");
+        lo = glm::min(lo, l);
+        hi = glm::max(hi, l);
+    }
+    if (perspective && !vertices.empty() &&
+        std::max({std::abs(lo.x), std::abs(lo.y), std::abs(hi.x), std::abs(hi.y)}) > 5.7f)  // tan 80 degrees
+        throw InputError(InputLocation{"", 0, 0, "lights[" + point->name + "].position"},
+                         "the particle cloud spans more than 160 degrees seen from the point light; ISV's perspective "
+                         "shadow maps cover less (move the light away from the cloud)");
 
     p.surfaces = prepareGpuSurfaces(scene, projectDir);
     p.supersampling = settings.supersampling;
@@ -170,29 +229,40 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     camera.height = p.height;
     p.camera = toCameraParams(camera);
 
-    const bool lit = !scene.directionalLights.empty();
+    const bool lit = lights > 0;
     p.vsm = lit && settings.selfShadowing && !p.particles.empty();
     if (p.vsm) {
         f.hasVsm = 1;
-        f.vsm = makeGrid(right, up, forward, lo, hi, settings.vsmResolution, settings.vsmSlices);
+        f.vsm = makeGrid(gridOrigin, right, up, forward, perspective, lo, hi, settings.vsmResolution,
+                         settings.vsmSlices);
     }
-    p.shadowMap = lit && settings.opaqueShadows && p.surfaces.triangleCount > 0;
-    if (p.shadowMap) {
-        // Over the particles and every surface, starting in front of all of them so that each occluder is seen.
-        glm::vec3 slo = lo, shi = hi;
-        for (int c = 0; c < 8; ++c) {
-            const glm::vec3 corner((c & 1) ? p.surfaces.boundsMax.x : p.surfaces.boundsMin.x,
-                                   (c & 2) ? p.surfaces.boundsMax.y : p.surfaces.boundsMin.y,
-                                   (c & 4) ? p.surfaces.boundsMax.z : p.surfaces.boundsMin.z);
-            const glm::vec3 l = toLight(right, up, forward, corner);
-            slo = glm::min(slo, l);
-            shi = glm::max(shi, l);
+    if (perspective) {
+        // Surfaces take shadow rays; the map gives Vis inside the medium, over the particles' frustum.
+        f.hasShadowMap = lit && settings.opaqueShadows && p.surfaces.triangleCount > 0 ? 1 : 0;
+        p.shadowMap = f.hasShadowMap != 0 && !p.particles.empty();
+        if (p.shadowMap) {
+            f.shadowMap = makeGrid(gridOrigin, right, up, forward, true, lo, hi, settings.shadowMapResolution, 2);
+            f.shadowBias = 2.0f * f.shadowMap.texel;  // relative to the distance: two texels of slope
         }
-        slo.z -= 1e-3f * std::max(shi.z - slo.z, 1.0f);
-        f.hasShadowMap = 1;
-        f.shadowMap = makeGrid(right, up, forward, slo, shi, settings.shadowMapResolution, 2);
-        // Two texels of slope: a surface lit at up to ~63 degrees from its normal does not shadow itself.
-        f.shadowBias = 2.0f * f.shadowMap.texel;
+    } else {
+        p.shadowMap = lit && settings.opaqueShadows && p.surfaces.triangleCount > 0;
+        if (p.shadowMap) {
+            // Over the particles and every surface, starting in front of all of them so that each occluder is seen.
+            glm::vec3 slo = lo, shi = hi;
+            for (int c = 0; c < 8; ++c) {
+                const glm::vec3 corner((c & 1) ? p.surfaces.boundsMax.x : p.surfaces.boundsMin.x,
+                                       (c & 2) ? p.surfaces.boundsMax.y : p.surfaces.boundsMin.y,
+                                       (c & 4) ? p.surfaces.boundsMax.z : p.surfaces.boundsMin.z);
+                const glm::vec3 l = toLight(gridOrigin, right, up, forward, false, corner);
+                slo = glm::min(slo, l);
+                shi = glm::max(shi, l);
+            }
+            slo.z -= 1e-3f * std::max(shi.z - slo.z, 1.0f);
+            f.hasShadowMap = 1;
+            f.shadowMap = makeGrid(gridOrigin, right, up, forward, false, slo, shi, settings.shadowMapResolution, 2);
+            // Two texels of slope: a surface lit at up to ~63 degrees from its normal does not shadow itself.
+            f.shadowBias = 2.0f * f.shadowMap.texel;
+        }
     }
     return p;
 }
@@ -238,9 +308,11 @@ std::vector<float> shadowMapCpu(const PreparedScene& scene, int threads, const s
         gpu::BvhScope bvh(scene.surfaces.bvh);
         for (int y = y0; y < y1; ++y)
             for (int x = 0; x < g.size; ++x) {
-                const glm::vec3 o = g.origin + (float(x) + 0.5f) * g.texel * g.right + (float(y) + 0.5f) * g.texel * g.up;
+                glm::vec3 o, d;
+                float cosine;
+                shader::isvGridRay(g, float(x) + 0.5f, float(y) + 0.5f, o, d, cosine);
                 shader::BvhHit hit;
-                if (shader::bvhIntersect(o, g.forward, 0.0f, shader::kInfinity, hit))
+                if (shader::bvhIntersect(o, d, 0.0f, shader::kInfinity, hit))
                     depth[std::size_t(y) * g.size + x] = hit.t;
             }
     });
@@ -261,12 +333,12 @@ std::vector<float> vsmSlabsCpu(const PreparedScene& scene, int threads, const st
         const shader::IsvParticle& p = scene.particles[i];
         glm::vec3 lo(shader::kInfinity), hi(-shader::kInfinity);
         for (const glm::vec3& v : {p.v0, p.v1, p.v2, p.v3}) {
-            const glm::vec3 l = toLight(g.right, g.up, g.forward, v - g.origin);
+            const glm::vec3 l = shader::isvGridPoint(g, v);
             lo = glm::min(lo, l);
             hi = glm::max(hi, l);
         }
-        footprints[i].xs = centreRange(lo.x, hi.x, g.texel, g.size);
-        footprints[i].ys = centreRange(lo.y, hi.y, g.texel, g.size);
+        footprints[i].xs = centreRange(lo.x, hi.x, 1.0f, g.size);
+        footprints[i].ys = centreRange(lo.y, hi.y, 1.0f, g.size);
         footprints[i].slabs = glm::ivec2(std::clamp(int(std::floor(lo.z / g.depthStep)), 0, slabs - 1),
                                          std::clamp(int(std::floor(hi.z / g.depthStep)), 0, slabs - 1));
     }
@@ -276,14 +348,15 @@ std::vector<float> vsmSlabsCpu(const PreparedScene& scene, int threads, const st
             const shader::IsvParticle& p = scene.particles[i];
             for (int y = std::max(y0, fp.ys.x); y < std::min(y1, fp.ys.y + 1); ++y)
                 for (int x = fp.xs.x; x <= fp.xs.y; ++x) {
-                    const glm::vec3 o =
-                        g.origin + (float(x) + 0.5f) * g.texel * g.right + (float(y) + 0.5f) * g.texel * g.up;
-                    const glm::vec2 t = shader::isvRayTetrahedron(p, o, g.forward);
+                    glm::vec3 o, d;
+                    float cosine;
+                    shader::isvGridRay(g, float(x) + 0.5f, float(y) + 0.5f, o, d, cosine);
+                    const glm::vec2 t = shader::isvRayTetrahedron(p, o, d);
                     if (!(t.x < t.y)) continue;
                     for (int j = fp.slabs.x; j <= fp.slabs.y; ++j)
                         out[std::size_t(j) * plane + std::size_t(y) * g.size + x] += shader::isvSlabDepth(
-                            p, o, g.forward, t.x, t.y, float(j) * g.depthStep, float(j + 1) * g.depthStep,
-                            scene.frame.fading);
+                            p, o, d, t.x, t.y, shader::isvRayDistance(g, float(j) * g.depthStep, cosine),
+                            shader::isvRayDistance(g, float(j + 1) * g.depthStep, cosine), scene.frame.fading);
                 }
         }
     });
@@ -314,8 +387,10 @@ std::vector<glm::vec4> surfacesCpu(const PreparedScene& scene, const std::vector
                 if (!shader::bvhIntersect(o, d, 0.0f, shader::kInfinity, hit)) continue;
                 const shader::SurfaceTriangle& st = scene.surfaces.triangles[hit.id];
                 const shader::SurfaceFrame sf = shader::surfaceFrame(st, hit.uv, d);
+                const glm::vec3 point = o + hit.t * d;
+                const float vis = shader::isvSurfaceVisibility(scene.frame, point, sf.ng, scene.surfaces.rayOffset);
                 const glm::vec3 radiance = shader::isvSurfaceRadiance(
-                    scene.frame, scene.surfaces.materials[std::size_t(st.material)], sf, o + hit.t * d, -d);
+                    scene.frame, scene.surfaces.materials[std::size_t(st.material)], sf, point, -d, vis);
                 out[std::size_t(y) * scene.width + x] = glm::vec4(radiance, hit.t);
             }
     });

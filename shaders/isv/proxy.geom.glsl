@@ -3,7 +3,8 @@
 // producer): per particle the projected-tetrahedron proxy of thesis Sec. 2.3.3 (shared/isv.h isvProxy), three or four
 // triangles whose vertices carry the two screen-affine depth attributes q the fragment stage turns into the ray's
 // interval. TY_ISV_LIGHT_VIEW selects the volumetric shadow map's orthographic view of one slab (q = depth along the
-// light; particles outside the slab emit nothing); otherwise the camera's perspective view (q = 1 / view depth;
+// light, or 1 / depth for a point light's frustum; particles outside the slab emit nothing); otherwise the camera's
+// perspective view (q = 1 / view depth;
 // tetrahedra reaching in front of the near plane are culled, as in the thesis, Sec. 2.3.4).
 #extension GL_GOOGLE_include_directive : require
 #include "isv_view.glsl"
@@ -32,14 +33,15 @@ void main() {
     vec4 depthAttribute;
 #ifdef TY_ISV_LIGHT_VIEW
     IsvLightSpace g = frame.vsm;
-    float extent = g.texel * float(g.size);
     float lo = kInfinity, hi = -kInfinity;
     for (int i = 0; i < 4; ++i) {
-        vec3 r = v[i] - g.origin;
-        s[i] = vec2(dot(r, g.right), dot(r, g.up)) / extent * 2.0f - 1.0f;
-        depthAttribute[i] = dot(r, g.forward);
-        lo = min(lo, depthAttribute[i]);
-        hi = max(hi, depthAttribute[i]);
+        vec3 c = isvGridPoint(g, v[i]);
+        s[i] = c.xy / float(g.size) * 2.0f - 1.0f;
+        // Screen-affine depth: the distance along the texel's ray (orthographic) or the reciprocal depth
+        // (perspective), as for the camera.
+        depthAttribute[i] = g.perspective != 0 ? 1.0f / (c.z + g.depthOrigin) : c.z;
+        lo = min(lo, c.z);
+        hi = max(hi, c.z);
     }
     int slabs = g.slices - 1;
     int first = clamp(int(floor(lo / g.depthStep)), 0, slabs - 1), last = clamp(int(floor(hi / g.depthStep)), 0, slabs - 1);

@@ -1,5 +1,5 @@
 #version 460
-// ISV's opaque shadow map: per texel of the light's grid, the distance along the light to the first surface
+// ISV's opaque shadow map: per texel of the light's grid, the distance along its ray to the first surface
 // (FLT_MAX where there is none), by the BVH's closest hit.
 //   TY_BVH_WORDS  BVH arrays read as 64-bit words (needs shaderFloat64)
 #extension GL_GOOGLE_include_directive : require
@@ -26,7 +26,9 @@ void main() {
     uint texel = push.first + gl_GlobalInvocationID.x;
     if (texel >= push.end) return;
     int x = int(texel % uint(g.size)), y = int(texel / uint(g.size));
-    vec3 origin = g.origin + (float(x) + 0.5f) * g.texel * g.right + (float(y) + 0.5f) * g.texel * g.up;
+    vec3 origin, dir;
+    float cosine;
+    isvGridRay(g, float(x) + 0.5f, float(y) + 0.5f, origin, dir, cosine);
     BvhHit hit;
-    shadowMap[texel] = bvhIntersect(origin, g.forward, 0.0f, kInfinity, hit) ? hit.t : kInfinity;
+    shadowMap[texel] = bvhIntersect(origin, dir, 0.0f, kInfinity, hit) ? hit.t : kInfinity;
 }

@@ -1,7 +1,7 @@
 #version 460
 // ISV: the opaque surfaces seen from the camera, per pixel centre: (radiance, distance) for the particles to be
-// composited over and clipped by. Lit by the directional light through the opaque shadow map (Vis) and the volumetric
-// shadow map (the medium's shadow on surfaces, Sec. 3.13).
+// composited over and clipped by. Lit through the opaque shadow map (a directional light) or a shadow ray (a point
+// light), and the volumetric shadow map (the medium's shadow on surfaces, Sec. 3.13).
 //   TY_BVH_WORDS  BVH arrays read as 64-bit words (needs shaderFloat64)
 #extension GL_GOOGLE_include_directive : require
 
@@ -25,6 +25,7 @@ float isvShadowTexel(int i) { return shadowMap[i]; }
 layout(push_constant) uniform Push {
     uint first;  // first pixel of this dispatch
     uint end;
+    float rayOffset;  // m, shadow rays leave surfaces this far along the normal
 } push;
 
 void main() {
@@ -40,7 +41,9 @@ void main() {
     if (bvhIntersect(origin, dir, 0.0f, kInfinity, hit)) {
         SurfaceTriangle st = surfaceTriangles[hit.id];
         SurfaceFrame sf = surfaceFrame(st, hit.uv, dir);
-        result = vec4(isvSurfaceRadiance(f, materials[st.material], sf, origin + hit.t * dir, -dir), hit.t);
+        vec3 x = origin + hit.t * dir;
+        float vis = isvSurfaceVisibility(f, x, sf.ng, push.rayOffset);
+        result = vec4(isvSurfaceRadiance(f, materials[st.material], sf, x, -dir, vis), hit.t);
     }
     surfaces[pixel] = result;
 }

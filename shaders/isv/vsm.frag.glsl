@@ -22,8 +22,12 @@ layout(location = 0) out float depth;
 
 void main() {
     IsvLightSpace g = frame.vsm;
-    vec3 origin = g.origin + gl_FragCoord.x * g.texel * g.right + gl_FragCoord.y * g.texel * g.up;
-    float lo = float(push.slab) * g.depthStep;
-    depth = isvSlabDepth(particles[particle], origin, g.forward, min(q.x, q.y), max(q.x, q.y), lo, lo + g.depthStep,
-                         TY_ISV_FADING_OF(frame));
+    vec3 origin, dir;
+    float cosine;
+    isvGridRay(g, gl_FragCoord.x, gl_FragCoord.y, origin, dir, cosine);
+    // The interval and the slab as distances along the texel's ray.
+    float ta = g.perspective != 0 ? 1.0f / (q.x * cosine) : q.x, tb = g.perspective != 0 ? 1.0f / (q.y * cosine) : q.y;
+    float lo = isvRayDistance(g, float(push.slab) * g.depthStep, cosine);
+    float hi = isvRayDistance(g, float(push.slab + 1) * g.depthStep, cosine);
+    depth = isvSlabDepth(particles[particle], origin, dir, min(ta, tb), max(ta, tb), lo, hi, TY_ISV_FADING_OF(frame));
 }

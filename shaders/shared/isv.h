@@ -51,25 +51,43 @@ struct IsvMedium {
     float pad1[3];
 };
 
-// An orthographic grid seen from a directional light, std430, 64 bytes. Texel (x, y) of slice s is centred on
-// origin + (x + 1/2) texel right + (y + 1/2) texel up + s depthStep forward.
+// A grid seen from the light, std430, 80 bytes: orthographic for a directional light, perspective (a frustum from the
+// light's position) for a point or spot light. A point x has grid coordinates
+//     orthographic: (dot(r, right), dot(r, up)),  perspective: (dot(r, right), dot(r, up)) / dot(r, forward),
+// r = x - origin, minus `corner`, in units of `texel` (texel (i, j)'s centre at i + 1/2, j + 1/2), and a depth
+// dot(r, forward) - depthOrigin (slice s at s depthStep). A texel's ray starts at the grid's plane (orthographic) or at
+// the light (perspective).
 struct IsvLightSpace {
     vec3 origin;
-    float texel;  // m, a texel's side
+    float texel;  // m (orthographic) or tangent units (perspective), a texel's side
     vec3 right;
     float depthStep;  // m, between slices (volumetric shadow map only)
     vec3 up;
     int size;  // texels per side
     vec3 forward;
     int slices;  // depth slices, >= 2 (volumetric shadow map only)
+    vec2 corner;
+    float depthOrigin;  // m, depth of slice 0
+    int perspective;    // 1 for a point or spot light's frustum
 };
 
 // Everything a fragment needs besides its particle, std430.
+TY_CONST int kIsvDirectional = 0;
+TY_CONST int kIsvPoint = 1;
+TY_CONST int kIsvMaxDistributionTerms = 32;
+
 struct IsvFrame {
-    vec3 lightDirection;  // unit, the direction light travels
+    vec3 lightDirection;  // unit, the direction light travels (directional light)
     int integration;      // kIsv*
-    vec3 irradiance;      // W/m^2 on a plane perpendicular to lightDirection
+    vec3 irradiance;      // W/m^2 on a plane perpendicular to lightDirection (directional), W/sr (point: intensity)
     int steps;            // Simpson steps, >= 1
+    vec3 lightPosition;   // m (point light)
+    int lightType;        // kIsvDirectional or kIsvPoint
+    vec3 lightAxis;       // unit, the axis of a point light's angular distribution
+    int distributionTerms;  // 0: isotropic; > 0: I(mu) = intensity sum_k c_k mu^k; -1: spot ((1 + mu) / 2)^spotExponent
+    float spotExponent;
+    float pad0, pad1, pad2;
+    float distribution[kIsvMaxDistributionTerms];
     float threshold;      // early out: fragments whose optical thickness is below it are skipped (Sec. 3.11)
     float multiScatter;   // m of Eq. 11, in [0, 1]
     int fading;           // 1: Gaussian extinction (Eq. 9); 0: constant sigma in the whole tetrahedron
@@ -82,6 +100,13 @@ struct IsvFrame {
     IsvLightSpace shadowMap;
     IsvMedium media[kIsvMaxMedia];
 };
+
+// A shader may fix the light's type when it is compiled (TY_ISV_LIGHT_TYPE); see also the settings below.
+#ifdef TY_ISV_LIGHT_TYPE
+#define TY_ISV_LIGHT_TYPE_OF(f) TY_ISV_LIGHT_TYPE
+#else
+#define TY_ISV_LIGHT_TYPE_OF(f) (f).lightType
+#endif
 
 // Accessors the includer defines (see the top of this file).
 float isvVsmTexel(int i);
@@ -234,13 +259,42 @@ TY_FUNC IsvProxy isvProxy(TY_IN(vec2) s0, TY_IN(vec2) s1, TY_IN(vec2) s2, TY_IN(
 // ---------------------------------------------------------------------------------------------------------------------
 // Light-space maps
 
+// Grid coordinates of x: (column, row) in texels with centres at half-integers, and the depth past depthOrigin.
+TY_FUNC vec3 isvGridPoint(TY_IN(IsvLightSpace) ls, TY_IN(vec3) x) {
+    vec3 r = x - ls.origin;
+    float z = dot(r, ls.forward);
+    vec2 plane = vec2(dot(r, ls.right), dot(r, ls.up));
+    if (ls.perspective != 0) plane /= max(z, 1e-30f);
+    return vec3((plane - ls.corner) / ls.texel, z - ls.depthOrigin);
+}
+
+// The ray of the grid point (gx, gy) (texel units; a texel's centre is at i + 1/2): unit direction, and the origin at
+// the light (perspective) or on the plane at depthOrigin (orthographic). `cosine` is dot(dir, forward);
+// isvRayDistance turns a depth past depthOrigin into a distance along the ray.
+TY_FUNC void isvGridRay(TY_IN(IsvLightSpace) ls, float gx, float gy, TY_OUT(vec3) origin, TY_OUT(vec3) dir,
+                        TY_OUT(float) cosine) {
+    vec2 plane = ls.corner + vec2(gx, gy) * ls.texel;
+    if (ls.perspective != 0) {
+        origin = ls.origin;
+        dir = normalize(ls.forward + plane.x * ls.right + plane.y * ls.up);
+        cosine = dot(dir, ls.forward);
+    } else {
+        origin = ls.origin + plane.x * ls.right + plane.y * ls.up + ls.depthOrigin * ls.forward;
+        dir = ls.forward;
+        cosine = 1.0f;
+    }
+}
+
+TY_FUNC float isvRayDistance(TY_IN(IsvLightSpace) ls, float depthPastOrigin, float cosine) {
+    return ls.perspective != 0 ? (ls.depthOrigin + depthPastOrigin) / cosine : depthPastOrigin;
+}
+
 // Optical depth from the light to x: bilinear between texel centres (zero outside the grid, where no particle is),
 // linear between depth slices (Fig. 7).
 TY_FUNC float isvLightOpticalDepth(TY_IN(IsvLightSpace) ls, TY_IN(vec3) x) {
-    vec3 r = x - ls.origin;
-    float fx = dot(r, ls.right) / ls.texel - 0.5f;
-    float fy = dot(r, ls.up) / ls.texel - 0.5f;
-    float fs = clamp(dot(r, ls.forward) / ls.depthStep, 0.0f, float(ls.slices - 1));
+    vec3 c = isvGridPoint(ls, x);
+    float fx = c.x - 0.5f, fy = c.y - 0.5f;
+    float fs = clamp(c.z / ls.depthStep, 0.0f, float(ls.slices - 1));
     int x0 = int(floor(fx)), y0 = int(floor(fy));
     int s0 = min(int(fs), ls.slices - 2);
     float wx = fx - float(x0), wy = fy - float(y0), ws = fs - float(s0);
@@ -255,21 +309,46 @@ TY_FUNC float isvLightOpticalDepth(TY_IN(IsvLightSpace) ls, TY_IN(vec3) x) {
     return tau;
 }
 
-// Vis(x) from the opaque shadow map: the share of the (2r + 1)^2 texels about x's texel whose surface lies beyond x
-// (percentage-closer filtering, Reeves et al. 1987). Outside the map nothing occludes.
+// Vis(x) from the opaque shadow map, which holds per texel the distance along its ray to the first surface: the share
+// of the (2r + 1)^2 texels about x's texel whose surface lies beyond x (percentage-closer filtering, Reeves et al.
+// 1987). Outside the map nothing occludes.
 TY_FUNC float isvVisibility(TY_IN(IsvLightSpace) ls, TY_IN(vec3) x, int radius, float bias) {
-    vec3 r = x - ls.origin;
-    int cx = int(floor(dot(r, ls.right) / ls.texel)), cy = int(floor(dot(r, ls.up) / ls.texel));
-    float depth = dot(r, ls.forward) - bias;
+    vec3 c = isvGridPoint(ls, x);
+    int cx = int(floor(c.x)), cy = int(floor(c.y));
+    // The distance along the texel's ray (isvGridRay) less the bias, which is in m (orthographic) or per m of
+    // distance (perspective, where texels grow with it).
+    float distance = ls.perspective != 0 ? length(x - ls.origin) * (1.0f - bias) : c.z - bias;
     float lit = 0.0f, count = 0.0f;
     for (int dy = -radius; dy <= radius; ++dy)
         for (int dx = -radius; dx <= radius; ++dx) {
             int tx = cx + dx, ty = cy + dy;
             count += 1.0f;
-            if (tx < 0 || ty < 0 || tx >= ls.size || ty >= ls.size || depth <= isvShadowTexel(ty * ls.size + tx))
+            if (tx < 0 || ty < 0 || tx >= ls.size || ty >= ls.size || distance <= isvShadowTexel(ty * ls.size + tx))
                 lit += 1.0f;
         }
     return lit / count;
+}
+
+// The light arriving at x: its irradiance on a plane facing it (W/m^2), and the unit direction towards it.
+TY_FUNC vec3 isvLightAt(TY_IN(IsvFrame) f, TY_IN(vec3) x, TY_OUT(vec3) toLight) {
+    if (TY_ISV_LIGHT_TYPE_OF(f) == kIsvDirectional) {
+        toLight = -f.lightDirection;
+        return f.irradiance;
+    }
+    vec3 r = f.lightPosition - x;
+    float d2 = max(dot(r, r), 1e-12f);
+    toLight = r * inversesqrt(d2);
+    float mu = -dot(toLight, f.lightAxis);
+    float shape = 1.0f;
+    if (f.distributionTerms < 0) {
+        shape = pow(max(0.5f * (1.0f + mu), 0.0f), f.spotExponent);
+    } else if (f.distributionTerms > 0) {
+        shape = 0.0f;
+        for (int k = kIsvMaxDistributionTerms - 1; k >= 0; --k)
+            if (k < f.distributionTerms) shape = shape * mu + f.distribution[k];
+        shape = max(shape, 0.0f);
+    }
+    return f.irradiance * (shape / d2);
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
@@ -359,6 +438,14 @@ TY_FUNC float isvOneMinusExpOver(float x) {
     return (1.0f - exp(-x)) / x;
 }
 
+// K of Eq. 7 at x: the light's irradiance there times the albedo and the phase function towards it (constant along
+// the ray for a directional light; a point light's 1/r^2, its distribution and the scattering angle vary).
+TY_FUNC vec3 isvSourceFactor(TY_IN(IsvFrame) f, TY_IN(IsvMedium) m, TY_IN(vec3) x, TY_IN(vec3) dir) {
+    vec3 toLight;
+    vec3 e = isvLightAt(f, x, toLight);
+    return e * m.albedo * phaseEval(m.phase, dot(dir, toLight));
+}
+
 // One fragment: the ray origin + t dir inside particle p over [t0, t1]. Returns (C_scat, A) for premultiplied blending
 // C_o = C_scat + A C (Sec. 3.2): C_scat of Eq. 7 (plus Eq. 11's C_mul) and A = T_V(t0, t1).
 TY_FUNC vec4 isvShade(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origin, TY_IN(vec3) dir, float t0,
@@ -387,8 +474,8 @@ TY_FUNC vec4 isvShade(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origi
     if (integration == kIsvWasted) return below ? vec4(1.0f, 0.0f, 0.0f, 1.0f) : vec4(0.0f, 1.0f, 0.0f, 1.0f);
     if (below) return vec4(0.0f, 0.0f, 0.0f, 1.0f);  // Sec. 3.11: set to zero, the pixel keeps what is behind
 
-    float phase = phaseEval(TY_ISV_MEDIUM(f, p.medium).phase, -dot(dir, f.lightDirection));
-    vec3 k = f.irradiance * TY_ISV_MEDIUM(f, p.medium).albedo * phase;  // K = R rho p(L, V)
+    IsvMedium medium = TY_ISV_MEDIUM(f, p.medium);
+    vec3 k = isvSourceFactor(f, medium, origin + (t0 + 0.5f * length) * dir, dir);  // K = R rho p(L, V), mid-interval
     g.tauL0 = 0.0f;
     g.tauL1 = 0.0f;
     if (TY_ISV_VSM_OF(f) != 0) {
@@ -396,33 +483,36 @@ TY_FUNC vec4 isvShade(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origi
         g.tauL1 = isvLightOpticalDepth(f.vsm, origin + t1 * dir);
     }
 
-    float integral = 0.0f;
+    bool pointLight = TY_ISV_LIGHT_TYPE_OF(f) != kIsvDirectional;
+    vec3 integral = vec3(0.0f);
     if (integration == kIsvAnalytic) {
         // Sec. 3.7 with Eq. 8: sigma L (e^-tau_min - e^(-sigma L - tau_max)) / (sigma L + tau_max - tau_min), written
         // as sigma L e^-tau_min (1 - e^-x) / x with x = sigma L + tau_max - tau_min; Vis at the midpoint.
         float vis = 1.0f;
         if (TY_ISV_SHADOW_MAP_OF(f) != 0)
             vis = isvVisibility(f.shadowMap, origin + (t0 + 0.5f * length) * dir, TY_ISV_PCF_OF(f), f.shadowBias);
-        integral = tauV * exp(-g.tauL0) * isvOneMinusExpOver(tauV + g.tauL1 - g.tauL0) * vis;
+        integral = k * (tauV * exp(-g.tauL0) * isvOneMinusExpOver(tauV + g.tauL1 - g.tauL0) * vis);
     } else if (integration == kIsvTaylor) {
         // Sec. 3.9: the first four terms of the Taylor series about the midpoint a, integrated over [t0, t1]; the odd
         // terms vanish there, leaving f(a) L + f''(a) L^3 / 24, with f'' by forward differences of step h = L / 4.
         float h = 0.25f * length, a = t0 + 0.5f * length;
         float fa = isvIntegrand(f, g, a), fh = isvIntegrand(f, g, a + h), f2h = isvIntegrand(f, g, a + 2.0f * h);
-        integral = max(0.0f, fa * length + (f2h - 2.0f * fh + fa) / (h * h) * length * length * length / 24.0f);
+        integral = k * max(0.0f, fa * length + (f2h - 2.0f * fh + fa) / (h * h) * length * length * length / 24.0f);
     } else {
-        // Sec. 3.10: composite Simpson over `steps` equal sub-intervals.
+        // Sec. 3.10: composite Simpson over `steps` equal sub-intervals; for a point light K varies at each node.
         int n = max(TY_ISV_STEPS_OF(f), 1);
         float w = length / float(n);
-        float sum = isvIntegrand(f, g, t0);
+        vec3 sum = isvIntegrand(f, g, t0) * (pointLight ? isvSourceFactor(f, medium, origin + t0 * dir, dir) : k);
         for (int i = 0; i < n; ++i) {
-            float a = t0 + float(i) * w;
-            sum += 4.0f * isvIntegrand(f, g, a + 0.5f * w) + 2.0f * isvIntegrand(f, g, a + w);
+            float a = t0 + float(i) * w, mid = a + 0.5f * w, end = a + w;
+            vec3 kMid = pointLight ? isvSourceFactor(f, medium, origin + mid * dir, dir) : k;
+            vec3 kEnd = pointLight ? isvSourceFactor(f, medium, origin + end * dir, dir) : k;
+            // The last end has weight 1, not 2.
+            sum += 4.0f * isvIntegrand(f, g, mid) * kMid + (i == n - 1 ? 1.0f : 2.0f) * isvIntegrand(f, g, end) * kEnd;
         }
-        sum -= isvIntegrand(f, g, t1);  // the last end has weight 1, not 2
-        integral = sum * w / 6.0f;
+        integral = sum * (w / 6.0f);
     }
-    vec3 colour = k * integral;
+    vec3 colour = integral;
     if (f.multiScatter > 0.0f) {
         // Eq. 11: C_mul = sigma_t(mid) / sigma rho R p(L, V) 0.001 m (crude, not physically based; off by default).
         float relative = isvFragmentExtinction(g, t0 + 0.5f * length) / max(p.sigma, 1e-30f);
@@ -430,6 +520,18 @@ TY_FUNC vec4 isvShade(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origi
     }
     return vec4(colour, exp(-tauV));
 }
+
+#ifdef TY_SHARED_BVH_H
+// The opaque visibility of the light from a surface point x with facing normal n (for isvSurfaceRadiance): the shadow
+// map's for a directional light, a shadow ray's through the BVH (leaving x by `offset` along n) for a point light.
+TY_FUNC float isvSurfaceVisibility(TY_IN(IsvFrame) f, TY_IN(vec3) x, TY_IN(vec3) n, float offset) {
+    if (TY_ISV_SHADOW_MAP_OF(f) == 0) return 1.0f;
+    if (TY_ISV_LIGHT_TYPE_OF(f) == kIsvDirectional) return isvVisibility(f.shadowMap, x, TY_ISV_PCF_OF(f), f.shadowBias);
+    vec3 r = f.lightPosition - x;
+    float d = length(r);
+    return bvhOccluded(x + offset * n, r / d, 0.0f, d) ? 0.0f : 1.0f;
+}
+#endif
 
 // The optical depth of particle p along a light-space ray over the slab [lo, hi] of its interval [t0, t1]: one slab's
 // share of the volumetric shadow map (each slab is accumulated, then summed front to back into slices).
@@ -440,16 +542,18 @@ TY_FUNC float isvSlabDepth(TY_IN(IsvParticle) p, TY_IN(vec3) origin, TY_IN(vec3)
 
 // Radiance leaving a surface point x towards wo, lit by the directional light through the opaque shadow map and the
 // medium's volumetric shadow map (Sec. 3.13).
+// Radiance leaving a surface point x towards wo, lit through the medium's volumetric shadow map (Sec. 3.13). `vis` is
+// the opaque visibility of the light: the shadow map's for a directional light (isvVisibility), a shadow ray's for a
+// point light (a single frustum cannot hold every direction around it), found by the caller.
 TY_FUNC vec3 isvSurfaceRadiance(TY_IN(IsvFrame) f, TY_IN(MaterialParams) m, TY_IN(SurfaceFrame) sf, TY_IN(vec3) x,
-                                TY_IN(vec3) wo) {
-    vec3 wi = -f.lightDirection;
+                                TY_IN(vec3) wo, float vis) {
+    vec3 wi;
+    vec3 e = isvLightAt(f, x, wi);
     vec3 reflected = surfaceReflect(m, sf, wo, wi);
-    if (reflected == vec3(0.0f)) return vec3(0.0f);
-    float vis = 1.0f;
-    if (TY_ISV_SHADOW_MAP_OF(f) != 0) vis = isvVisibility(f.shadowMap, x, TY_ISV_PCF_OF(f), f.shadowBias);
+    if (reflected == vec3(0.0f) || vis <= 0.0f) return vec3(0.0f);
     float tau = 0.0f;
     if (TY_ISV_VSM_OF(f) != 0) tau = isvLightOpticalDepth(f.vsm, x);
-    return f.irradiance * reflected * (vis * exp(-tau));
+    return e * reflected * (vis * exp(-tau));
 }
 
 TY_END
