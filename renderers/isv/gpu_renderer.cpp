@@ -228,7 +228,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
                     i += count;
                 }
             },
-            256, out.timings.vsmMs);
+            64, out.timings.vsmMs);
         pipeline.resetDescriptors();
         gpu::Buffer slabBuffer(ctx, vsmTexels * slabs * sizeof(float));
         gpu::ComputeKernel& sum = im.kernel("vsm_sum.comp.glsl", 2, sizeof(SumPush), false);
@@ -315,7 +315,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
                 pipeline.draw(cmd, b, &push, std::uint32_t(n), 1, std::uint32_t(begin));
                 pipeline.endPass(cmd);
             },
-            256, out.timings.particlesMs);
+            16, out.timings.particlesMs);
         pipeline.resetDescriptors();
     }
 
