@@ -52,8 +52,11 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 namespace tyndall::studio {
 
@@ -109,6 +112,7 @@ QString displayNameOf(const std::string& technique) {
 MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrides)
     : overrides_(std::move(overrides)) {
     renderer_ = new RenderService(this);
+    animation_ = new Animation(session_, this);
     composer_ = new Composer(this);
     // Not the global pool: Qt's raster engine splits large fills over the global pool and waits for them, so a
     // widget's paint would wait behind a 100 ms metrics job.
@@ -267,10 +271,26 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     auto* sceneDock = new QDockWidget("Scene", this);
     sceneDock->setObjectName("sceneDock");
     scene_ = new ScenePanel(session_);
+    scene_->setAnimation(animation_);
     sceneDock->setWidget(scene_);
     addDockWidget(Qt::LeftDockWidgetArea, sceneDock);
 
     buildMenus();
+
+    // The animation advances only once the views have shown its last frame (coalesced: by the simulated time that
+    // passed meanwhile), and its edits replace a progressive view's long render at once (flushDirty).
+    animation_->setViewsReady([this] { return viewsCaughtUp(); });
+    connect(animation_, &Animation::advancing, this, [this](bool during) { animating_ = during; });
+    connect(animation_, &Animation::refused, this,
+            [this](const QString& reason) { statusBar()->showMessage("Animation stopped: " + reason, 10000); });
+    connect(animation_, &Animation::playingChanged, this, [this](bool playing) {
+        const QSignalBlocker block(playAction_);
+        playAction_->setChecked(playing);
+        playAction_->setText(playing ? "&Pause" : "&Play");
+    });
+    connect(&session_, &Session::projectReplaced, this, &MainWindow::updateAnimationActions);
+    connect(&session_, &Session::sceneChanged, this, &MainWindow::updateAnimationActions);
+    updateAnimationActions();
 
     connect(viewList_, &QListWidget::currentRowChanged, this, [this](int row) {
         if (row < 0) return;
@@ -380,7 +400,38 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     });
     connect(viewport_, &Viewport::mousePressed, this, [this, dragDivider](QPointF position, Qt::MouseButtons buttons) {
         lastMouse_ = position;
-        if (QGuiApplication::keyboardModifiers() & Qt::AltModifier) return;  // camera navigation
+        offsetDragMedium_ = -1;
+        const Qt::KeyboardModifiers modifiers = QGuiApplication::keyboardModifiers();
+        if (modifiers & Qt::AltModifier) return;  // camera navigation
+        if ((modifiers & Qt::ControlModifier) && (buttons & Qt::LeftButton)) {
+            int medium;
+            Vec3 point;
+            if (!particlePointAt(position, medium, point)) return;
+            if (modifiers & Qt::ShiftModifier) {  // moving the region of targets: in the image plane at that depth
+                const Camera& cam = session_.project().scene.camera;
+                const std::vector<QRect> rects = viewRects(frames_, state_, viewport_->pixelSize());
+                int view;
+                QPoint pixel;
+                if (!viewAt(position, view, pixel)) return;
+                const QRect r = rects[std::size_t(view)];
+                const QRectF visible = visiblePart(QSize(cam.width, cam.height), state_);
+                const Vec3 forward = glm::normalize(cam.target - cam.position);
+                const Vec3 right = glm::normalize(glm::cross(forward, cam.up)), up = glm::cross(right, forward);
+                const double depth = glm::dot(point - cam.position, forward);
+                const double metresPerPixel = 2.0 * depth * std::tan(glm::radians(cam.fovY) * 0.5) / cam.height *
+                                              visible.height() / std::max(1, r.height());
+                const auto& sim = session_.project().scene.particleMedia[std::size_t(medium)].simulation;
+                offsetDragMedium_ = medium;
+                offsetDragStart_ = sim ? sim->offset : Vec3(0.0);
+                offsetDragFrom_ = position;
+                offsetDragRight_ = right * metresPerPixel;
+                offsetDragUp_ = up * metresPerPixel;
+                return;
+            }
+            QString error;
+            if (!addImpulseAt(position, &error) && !error.isEmpty()) statusBar()->showMessage(error, 10000);
+            return;
+        }
         dragDivider(position, buttons);
         int view;
         QPoint pixel;
@@ -391,6 +442,13 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
         lastMouse_ = position;
         if ((QGuiApplication::keyboardModifiers() & Qt::AltModifier) && (buttons & Qt::LeftButton)) {
             orbitCamera(-delta.x() * 0.01, -delta.y() * 0.01);
+            return;
+        }
+        if (offsetDragMedium_ >= 0 && (buttons & Qt::LeftButton)) {
+            const QPointF moved = position - offsetDragFrom_;
+            const Vec3 offset = offsetDragStart_ + moved.x() * offsetDragRight_ - moved.y() * offsetDragUp_;
+            QString error;
+            if (!animation_->setOffset(offsetDragMedium_, offset, &error, 3)) statusBar()->showMessage(error, 5000);
             return;
         }
         if ((buttons & Qt::MiddleButton) && !frames_.empty()) {  // pan every view together
@@ -622,6 +680,27 @@ void MainWindow::buildMenus() {
     QMenu* snapshots = menuBar()->addMenu("S&napshots");
     key(snapshots, "&Take a snapshot of the current view", QKeySequence("K"), [this] { takeSnapshot(); });
 
+    // The particle simulation: shown only for a project with a particle medium (updateAnimationActions).
+    QMenu* animation = menuBar()->addMenu("&Animation");
+    animationBar_ = addToolBar("Animation");
+    animationBar_->setObjectName("animationToolbar");
+    playAction_ = key(animation, "&Play", QKeySequence("P"), [this] { animation_->togglePlay(); });
+    playAction_->setObjectName("playAnimation");
+    playAction_->setCheckable(true);
+    playAction_->setToolTip("Play or pause the particle simulation (P): it advances at the wall clock's rate, by as "
+                            "many steps as passed, each time the views have shown the last frame");
+    stepAction_ = key(animation, "&Step", QKeySequence("."), [this] {
+        QString error;
+        if (!animation_->step(1, &error)) statusBar()->showMessage(error, 10000);
+    });
+    stepAction_->setObjectName("stepAnimation");
+    resetAction_ = key(animation, "&Reset (step 0, no impulses, targets back)", QKeySequence("Ctrl+R"), [this] {
+        QString error;
+        if (!animation_->reset(&error)) statusBar()->showMessage(error, 10000);
+    });
+    resetAction_->setObjectName("resetAnimation");
+    for (QAction* a : {playAction_, stepAction_, resetAction_}) animationBar_->addAction(a);
+
     QMenu* help = menuBar()->addMenu("&Help");
     QAction* keys = key(help, "&Keyboard and mouse shortcuts", QKeySequence::HelpContents, [this] { showShortcuts(); });
     keys->setShortcuts({QKeySequence(Qt::Key_F1), QKeySequence("?")});
@@ -665,6 +744,8 @@ QString MainWindow::shortcutsText() {
         {"Middle drag", "Pan every view"},
         {"Right drag", "Draw a region: metrics over it"},
         {"Drag / double-click", "Move the wipe's divider / centre it"},
+        {"Ctrl+click", "Particle medium: an impulse under the cursor (at the current step; the medium steps once)"},
+        {"Ctrl+Shift+drag", "Particle medium: move its region of targets (simulation offset)"},
     };
     for (const auto& m : mouse)
         html += QString("<tr><td><b>%1</b></td><td>%2</td><td><i>viewport</i></td></tr>").arg(QString::fromUtf8(m[0]), QString::fromUtf8(m[1]));
@@ -812,6 +893,7 @@ void MainWindow::rebuildViews() {
     pending_.assign(project.views.size(), false);
     latestMetrics_.assign(project.views.size(), 0);
     referencePending_.assign(project.views.size(), false);
+    progressive_.assign(project.views.size(), false);
     partKeys_.clear();
     viewKeys_.clear();
     for (const View& v : project.views) {
@@ -928,6 +1010,21 @@ QString MainWindow::referenceCachePath(int view) const {
 }
 
 void MainWindow::flushDirty() {
+    // While the animation plays, a progressive view (the path tracer as a view, whose render may take minutes) is not
+    // waited for: play advances only once it has shown an image of its state, and then its render in flight is
+    // replaced at once. It is submitted before the others, so that the worker (newest first) renders the fast ones
+    // first.
+    if (animating_) {
+        for (auto it = dirtyViews_.begin(); it != dirtyViews_.end();) {
+            if (!progressive_[std::size_t(*it)]) {
+                ++it;
+                continue;
+            }
+            const int view = *it;
+            it = dirtyViews_.erase(it);
+            renderView(view, false);
+        }
+    }
     // An edited view renders at once when it is not rendering; otherwise when its render in flight is done, so that
     // a drag shows a new image at the rate the technique renders and the last state always renders.
     for (auto it = dirtyViews_.begin(); it != dirtyViews_.end();) {
@@ -963,6 +1060,7 @@ void MainWindow::onOutput(const RenderOutput& out) {
     if (out.view < 0 || out.view >= int(frames_.size())) return;
     const std::vector<quint64>& generations = out.reference ? referenceGeneration_ : generation_;
     if (out.generation != generations[std::size_t(out.view)]) return;  // stale: a newer render is on its way
+    if (!out.reference && !out.final && out.image) progressive_[std::size_t(out.view)] = true;
     ViewFrame& f = frames_[std::size_t(out.view)];
     if (!out.error.isEmpty()) {
         f.error = out.error;
@@ -1354,6 +1452,12 @@ void MainWindow::onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed) {
         takeSnapshot();
     } else if (key == Qt::Key_Escape) {
         setRegion(QRect());
+    } else if (animation_->available() && key == Qt::Key_P) {
+        animation_->togglePlay();
+    } else if (animation_->available() && key == Qt::Key_Period) {
+        stepAction_->trigger();
+    } else if (animation_->available() && key == Qt::Key_R && (modifiers & Qt::ControlModifier)) {
+        resetAction_->trigger();
     }
 }
 
@@ -1561,6 +1665,69 @@ void MainWindow::restoreSnapshot(int index) {
         session_.setParameter(s.view, key, value);
     session_.setExposure(s.view, s.exposure);
     session_.undoStack()->endMacro();
+}
+
+void MainWindow::updateAnimationActions() {
+    const bool available = animation_->available();
+    for (QAction* a : {playAction_, stepAction_, resetAction_})
+        if (a && a->isEnabled() != available) a->setEnabled(available);
+    if (animationBar_ && animationBar_->isVisibleTo(this) != available) animationBar_->setVisible(available);
+}
+
+bool MainWindow::viewsCaughtUp() const {
+    for (std::size_t i = 0; i < frames_.size(); ++i) {
+        if (dirtyViews_.count(int(i))) return false;
+        if (!pending_[i]) continue;
+        // A progressive view has caught up once it shows a pass of the current state.
+        if (progressive_[i] && frames_[i].image && frames_[i].imageState == frames_[i].state) continue;
+        return false;
+    }
+    return true;
+}
+
+bool MainWindow::particlePointAt(QPointF position, int& medium, Vec3& point) const {
+    int view;
+    QPoint pixel;
+    if (!viewAt(position, view, pixel)) return false;
+    const Project& project = session_.project();
+    std::vector<std::string> own;
+    try {
+        own = resolvePart(project, project.views[std::size_t(view)]).media;
+    } catch (const std::exception&) {
+    }
+    const std::vector<ParticleMedium>& media = project.scene.particleMedia;
+    auto renders = [&](const ParticleMedium& m) { return std::find(own.begin(), own.end(), m.name) != own.end(); };
+    const bool any = std::any_of(media.begin(), media.end(), renders);
+    const Camera& cam = project.scene.camera;
+    double nearest = std::numeric_limits<double>::infinity();
+    bool nearestHit = false;
+    medium = -1;
+    for (std::size_t i = 0; i < media.size(); ++i) {
+        if (any && !renders(media[i])) continue;
+        bool hit = false;
+        const std::optional<Vec3> p =
+            impulsePoint(cam, media[i].allParticles(), pixel.x() + 0.5, pixel.y() + 0.5, &hit);
+        if (!p) continue;
+        const double distance = glm::length(*p - cam.position);
+        // A medium the ray meets beats one it misses; then the nearest.
+        if (medium >= 0 && (nearestHit && !hit)) continue;
+        if (medium >= 0 && hit == nearestHit && distance >= nearest) continue;
+        medium = int(i);
+        point = *p;
+        nearest = distance;
+        nearestHit = hit;
+    }
+    return medium >= 0;
+}
+
+bool MainWindow::addImpulseAt(QPointF position, QString* error) {
+    int medium;
+    Vec3 point;
+    if (!particlePointAt(position, medium, point)) {
+        if (error) *error = "No particle medium under the cursor";
+        return false;
+    }
+    return animation_->addImpulse(medium, point, error);
 }
 
 bool MainWindow::viewAt(QPointF position, int& view, QPoint& pixel) const {

@@ -3,6 +3,7 @@
 // shortly after each edit of it (debounced) while references refine in the background.
 #pragma once
 
+#include "animation.h"
 #include "compositor.h"
 #include "parameter_panel.h"
 #include "plots.h"
@@ -29,6 +30,7 @@ class QAction;
 class QDialog;
 class QPushButton;
 class QTableWidget;
+class QToolBar;
 class QThreadPool;
 class QVulkanInstance;
 
@@ -121,6 +123,16 @@ public:
     void frameScene();
     ScenePanel* scenePanel() { return scene_; }
 
+    // The particle simulation (Animation menu and toolbar: play / pause P, step ., reset Ctrl+R). A Ctrl+click on a
+    // view adds an impulse where the camera ray meets its particle medium (impulsePoint); Ctrl+Shift+drag moves the
+    // medium's region of targets (simulation.offset) in the image plane.
+    Animation& animation() { return *animation_; }
+    // The particle medium under a viewport position and the point an impulse there goes to: of the view's particle
+    // media (every one when it renders none), the one whose particle the ray meets nearest; false over no view or
+    // without a particle medium.
+    bool particlePointAt(QPointF position, int& medium, Vec3& point) const;
+    bool addImpulseAt(QPointF position, QString* error);
+
     // Metrics over `region` (image pixels; empty: none) of every view.
     void setRegion(QRect region);
     QString inspectorText() const;
@@ -156,6 +168,8 @@ protected:
 
 private:
     void buildMenus();
+    void updateAnimationActions();  // enabled, and the toolbar shown, only for a project with a particle medium
+    bool viewsCaughtUp() const;     // the animation may advance: every view shows (or is done with) the current state
     void rebuildViews();
     void renderView(int view, bool reference);
     void renderAll();
@@ -182,6 +196,16 @@ private:
     std::vector<quint64> generation_, referenceGeneration_;
     std::vector<bool> pending_;           // a technique render of the view is queued or running
     std::vector<bool> referencePending_;  // so is a reference render
+    std::vector<bool> progressive_;       // the view's technique sent a progressive image (it may render for long)
+    Animation* animation_ = nullptr;
+    bool animating_ = false;              // within an edit of the animation's play
+    QAction *playAction_ = nullptr, *stepAction_ = nullptr, *resetAction_ = nullptr;
+    QToolBar* animationBar_ = nullptr;
+    // Ctrl+Shift+drag: the medium whose targets move, their offset at the press, and the metres per viewport pixel.
+    int offsetDragMedium_ = -1;
+    Vec3 offsetDragStart_{0.0};
+    QPointF offsetDragFrom_;
+    Vec3 offsetDragRight_{0.0}, offsetDragUp_{0.0};
     std::set<int> dirtyViews_;    // edited views waiting for their render in flight to finish
     std::set<int> dirtyParts_;    // views whose part of the scene changed: their references restart after the debounce
     std::vector<std::string> partKeys_;

@@ -1,5 +1,7 @@
 #include "scene_panel.h"
 
+#include "animation.h"
+
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QHBoxLayout>
@@ -21,6 +23,14 @@ QDoubleSpinBox* spinBox(double value) {
     spin->setSingleStep(0.05);
     spin->setValue(value);
     spin->setKeyboardTracking(false);  // one edit per value typed, not per key
+    return spin;
+}
+
+// An integer field (a simulation's steps) shows no decimals and steps by one.
+QDoubleSpinBox* integerSpinBox(double value) {
+    QDoubleSpinBox* spin = spinBox(value);
+    spin->setDecimals(0);
+    spin->setSingleStep(1.0);
     return spin;
 }
 
@@ -62,6 +72,19 @@ std::vector<ScenePanel::Field> ScenePanel::fields() const {
                 out.push_back({"", "phase g", prefix + "phase.g", element["phase"]["g"]});
         }
     }
+    // Particle media: the extinction and, once it has one (Animation > Play or Step creates it), the simulation.
+    if (j.contains("particleMedia")) {
+        for (const auto& element : j["particleMedia"]) {
+            const std::string name = element.value("name", "");
+            out.push_back({QString::fromStdString("particle medium: " + name), "", "", {}});
+            const std::string prefix = "particleMedia[" + name + "].";
+            if (element.contains("extinction")) out.push_back({"", "extinction", prefix + "extinction", element["extinction"]});
+            if (!element.contains("simulation")) continue;
+            const nlohmann::json& sim = element["simulation"];
+            for (const char* key : {"steps", "timeStep", "stiffness", "viscosity", "offset"})
+                if (sim.contains(key)) out.push_back({"", key, prefix + "simulation." + key, sim[key]});
+        }
+    }
     return out;
 }
 
@@ -98,7 +121,7 @@ void ScenePanel::addField(const QString& label, const std::string& path, const n
         if (!ok) refresh();  // back to the project's value
     };
     if (value.is_number()) {
-        auto* spin = spinBox(value.get<double>());
+        auto* spin = value.is_number_integer() ? integerSpinBox(value.get<double>()) : spinBox(value.get<double>());
         spin->setObjectName("scene:" + name);
         connect(spin, &QDoubleSpinBox::valueChanged, this, [this, commit](double v) {
             if (!updating_) commit(v);
@@ -146,6 +169,27 @@ void ScenePanel::rebuild() {
         else
             addField(f.label, f.path, f.value);
     }
+    // What a Ctrl+click's impulse pushes with: the studio's, not the project's (each impulse stores its own).
+    if (animation_ && animation_->available()) {
+        form_->addRow(new QLabel("<b>Ctrl+click impulse</b>"));
+        auto* radius = spinBox(animation_->impulseRadius());
+        radius->setObjectName("scene:impulseRadius");
+        radius->setRange(1e-3, 1e3);
+        radius->setToolTip("m: particles closer than this to the click are pushed away");
+        connect(radius, &QDoubleSpinBox::valueChanged, this, [this](double v) { animation_->setImpulseRadius(v); });
+        form_->addRow("radius", radius);
+        auto* speed = spinBox(animation_->impulseSpeed());
+        speed->setObjectName("scene:impulseSpeed");
+        speed->setRange(0.0, 1000.0);
+        speed->setToolTip("m/s: the velocity given at the centre, falling linearly to 0 at the radius");
+        connect(speed, &QDoubleSpinBox::valueChanged, this, [this](double v) { animation_->setImpulseSpeed(v); });
+        form_->addRow("speed", speed);
+    }
+}
+
+void ScenePanel::setAnimation(Animation* animation) {
+    animation_ = animation;
+    rebuild();
 }
 
 }  // namespace tyndall::studio

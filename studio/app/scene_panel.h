@@ -6,6 +6,8 @@
 
 #include "session.h"
 
+class QDoubleSpinBox;
+
 #include <QWidget>
 
 #include <functional>
@@ -23,6 +25,8 @@ class ScenePanel : public QWidget {
 public:
     ScenePanel(Session& session, QWidget* parent = nullptr);
     void rebuild();
+    // The animation whose click impulse (radius, speed) the panel edits, for a project with particle media.
+    void setAnimation(class Animation* animation);
     const QString& lastError() const { return lastError_; }
 
 private:
@@ -37,6 +41,7 @@ private:
     void addField(const QString& label, const std::string& path, const nlohmann::json& value);
 
     Session& session_;
+    class Animation* animation_ = nullptr;
     QFormLayout* form_ = nullptr;
     QLabel* status_ = nullptr;
     QString lastError_;
