@@ -1,11 +1,14 @@
-// tyndall-fit-tables: fits the LTSD tables of Henyey-Greenstein (docs/tables.md) and writes them with their provenance,
-// or with --check re-fits entries and compares them bit for bit with a shipped table.
+// tyndall-fit-tables: fits the LTSD tables of Henyey-Greenstein and other phase functions' lobes, and with --ltc the
+// LTC GGX table (docs/tables.md), and writes them with their provenance, or with --check re-fits entries and compares
+// them bit for bit with a shipped table.
 #include "fit.h"
+#include "ltc_fit.h"
 
 #include "tyndall/error.h"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -59,14 +62,160 @@ nlohmann::json errorSummary(const LtsdTable& table) {
             {"againstG", curve}};
 }
 
+// The load average (1, 5, 15 minutes) when the fitter starts: the machine is shared, and wall times depend on it.
+std::string loadAverage() {
+    std::ifstream in("/proc/loadavg");
+    std::string one, five, fifteen;
+    in >> one >> five >> fifteen;
+    return in ? one + " " + five + " " + fifteen : "unknown";
+}
+
+const std::string kLoadAtStart = loadAverage();
+
+nlohmann::json machine(int threads) {
+    return {{"host", hostName()},
+            {"loadAverageAtStart", kLoadAtStart},
+            {"cpu", cpuModel()},
+            {"hardwareThreads", std::thread::hardware_concurrency()},
+            {"threadsUsed", threads > 0 ? threads : int(std::thread::hardware_concurrency())}};
+}
+
+std::string commandLine(int argc, char** argv) {
+    std::string command;
+    for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
+    return command;
+}
+
+// The LTC table's error summary: the stored total-variation distance per entry, its maximum and mean per alpha row.
+nlohmann::json ltcErrorSummary(const LtcTable& table) {
+    double maxTv = 0.0, sumTv = 0.0;
+    nlohmann::json rows = nlohmann::json::array();
+    for (int ia = 0; ia < table.alphaCount(); ++ia) {
+        double rowMax = 0.0, rowSum = 0.0;
+        for (int ix = 0; ix < table.xCount(); ++ix) {
+            const double tv = table.entries[size_t(ia * table.xCount() + ix)].error;
+            rowMax = std::max(rowMax, tv);
+            rowSum += tv;
+        }
+        maxTv = std::max(maxTv, rowMax);
+        sumTv += rowSum;
+        rows.push_back({{"alpha", LtcTable::gridAlpha(ia, table.alphaCount(), table.alphaMin)},
+                        {"tvMax", rowMax},
+                        {"tvMean", rowSum / table.xCount()}});
+    }
+    return {{"entryTotalVariationMax", maxTv},
+            {"entryTotalVariationMean", sumTv / double(table.entries.size())},
+            {"note", "total-variation distance int |p - q| (in [0, 2]) between GGX's normalised lobe and the LTC, "
+                     "estimated with momentSamples visible-normal and LTC samples; any polygon's normalised integral "
+                     "is off by at most tv / 2; polygon errors against quadrature: docs/tables.md"},
+            {"againstAlpha", rows}};
+}
+
+// tyndall-fit-tables --ltc: fit (or with --check re-fit and compare) the isotropic LTC GGX table.
+int runLtc(tables::LtcFitSettings settings, const std::string& out, const std::string& check, bool quick, int argc,
+           char** argv) {
+    LtcTable reference;
+    if (!check.empty()) {
+        reference = loadLtcTable(check);
+        if (reference.provenance.contains("settings"))
+            tables::ltcSettingsFromJson(reference.provenance["settings"], settings);
+        if (reference.xCount() != settings.xCount || reference.alphaCount() != settings.alphaCount) {
+            std::fprintf(stderr, "tyndall-fit-tables: %s: is %d x %d, the settings %d x %d\n", check.c_str(),
+                         reference.xCount(), reference.alphaCount(), settings.xCount, settings.alphaCount);
+            return 1;
+        }
+    }
+    const bool terminal = isatty(fileno(stderr));
+    const auto start = std::chrono::steady_clock::now();
+    if (!check.empty()) {
+        // Each entry depends only on the stored entry before it (ltc_fit.h), so entries are re-fitted from the shipped
+        // predecessors: all of them, or with --quick a few per alpha row across theta.
+        std::vector<int> indices;
+        const int nx = settings.xCount, na = settings.alphaCount;
+        for (int ia = 0; ia < na; ++ia)
+            for (int ix = 0; ix < nx; ++ix) {
+                const bool pick = !quick || ((ia == 0 || ia == na / 3 || ia == (2 * na) / 3 || ia == na - 1) &&
+                                             (ix == 0 || ix == 1 || ix == nx / 2 || ix == nx - 1));
+                if (pick) indices.push_back(ia * nx + ix);
+            }
+        int differing = 0;
+        for (size_t k = 0; k < indices.size(); ++k) {
+            const int i = indices[k];
+            const shader::LtcEntry e =
+                tables::fitLtcEntry(i, settings, i % nx > 0 ? &reference.entries[size_t(i - 1)] : nullptr);
+            if (std::memcmp(&e, &reference.entries[size_t(i)], sizeof e) != 0) {
+                ++differing;
+                std::fprintf(stderr, "entry %d (alpha %.4f, cos theta %.4f): m00 = %.9g, shipped %.9g; error %.6g, "
+                             "shipped %.6g\n", i, reference.entryAlpha(i), reference.entryCosTheta(i), double(e.m[0]),
+                             double(reference.entries[size_t(i)].m[0]), double(e.error),
+                             double(reference.entries[size_t(i)].error));
+            }
+            if (terminal) std::fprintf(stderr, "\rre-fitting: %zu / %zu", k + 1, indices.size());
+        }
+        if (terminal) std::fprintf(stderr, "\n");
+        std::printf("%d of %zu re-fitted entries differ from %s\n", differing, indices.size(), check.c_str());
+        return differing == 0 ? 0 : 1;
+    }
+    int lastReported = -1;
+    const auto progress = [&](int done, int total) {
+        if (done == lastReported) return;
+        lastReported = done;
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::fprintf(stderr, "%sfitting ggx LTC: %d / %d entries, %.1f s%s", terminal ? "\r" : "", done, total,
+                     seconds, terminal && done < total ? "" : "\n");
+    };
+    std::vector<int> rows;
+    if (quick)
+        for (int ia = 0; ia < settings.alphaCount; ia += 16) rows.push_back(ia);
+    LtcTable table;
+    table.dimensions = 2;
+    table.sizes = {settings.xCount, settings.alphaCount, 1, 1};
+    table.alphaMin = settings.alphaMin;
+    table.entries = tables::fitLtcRows(settings, rows, progress);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (quick) {  // a partial table cannot be loaded (zero matrices): fill the missing rows by copying, and say so
+        for (int ia = 0; ia < settings.alphaCount; ++ia)
+            if (ia % 16 != 0)
+                for (int ix = 0; ix < settings.xCount; ++ix)
+                    table.entries[size_t(ia * settings.xCount + ix)] =
+                        table.entries[size_t((ia - ia % 16) * settings.xCount + ix)];
+    }
+    table.provenance = {
+        {"format", "docs/tables.md"},
+        {"brdf", "GGX, height-correlated Smith, F = 1 (Schlick applied at run time from norm and fresnel); isotropic"},
+        {"source", "clamped cosine"},
+        {"command", commandLine(argc, argv)},
+        {"seed", 0},
+        {"seedNote", "the fit draws no random numbers (fixed golden-ratio lattices, deterministic Nelder-Mead)"},
+        {"settings", tables::ltcSettingsToJson(settings)},
+        {"partial", quick},
+        {"fitSeconds", seconds},
+        {"cpuSeconds", double(std::clock()) / CLOCKS_PER_SEC},
+        {"machine", machine(settings.threads)},
+        {"date", utcNow()},
+        {"fitter", "tyndall-fit-tables " TYNDALL_VERSION},
+    };
+    if (!quick) table.provenance["errorSummary"] = ltcErrorSummary(table);
+    saveLtcTable(table, out);
+    std::printf("wrote %s (%zu entries, %.1f s)\n", out.c_str(), table.entries.size(), seconds);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"tyndall-fit-tables: fit the LTSD tables of Henyey-Greenstein and of the lobes of Rayleigh and the Mie "
                  "presets (docs/tables.md)"};
     tables::FitSettings settings;
+    tables::LtcFitSettings ltcSettings;
     std::string out, check;
-    bool quick = false;
+    bool quick = false, ltc = false;
+    app.add_flag("--ltc", ltc, "fit the isotropic LTC GGX table instead (docs/tables.md, \"LTC GGX tables\"); "
+                               "implied by --check FILE.ltc");
+    app.add_option("--ltc-size", ltcSettings.xCount, "--ltc: entries over sqrt(1 - cos theta) and over alpha")
+        ->check(CLI::Range(2, 4096));
+    app.add_option("--ltc-samples", ltcSettings.samples, "--ltc: samples per strategy of the loss")
+        ->check(CLI::Range(16, 1 << 20));
     app.add_option("--out,-o", out, "the table to write (its provenance goes to <out>.json)");
     app.add_option("--phase", settings.phase,
                    "hg (a table over g), or a parameterless lobe: rayleigh, hazy-mie, murky-mie (docs/tables.md)")
@@ -92,6 +241,11 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
+        if (ltc || (check.size() > 4 && check.compare(check.size() - 4, 4, ".ltc") == 0)) {
+            ltcSettings.alphaCount = ltcSettings.xCount;
+            ltcSettings.threads = settings.threads;
+            return runLtc(ltcSettings, out, check, quick, argc, argv);
+        }
         std::vector<int> indices;
         LtsdTable reference;
         if (!check.empty()) {
@@ -149,8 +303,7 @@ int main(int argc, char** argv) {
         table.entriesPerHalf = n;
         table.gMax = settings.gMax;
         table.entries = entries;
-        std::string command;
-        for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
+        const std::string command = commandLine(argc, argv);
         table.provenance = {
             {"format", "docs/tables.md"},
             {"phase", settings.phase},
@@ -160,11 +313,7 @@ int main(int argc, char** argv) {
             {"settings", tables::settingsToJson(settings)},
             {"partial", quick},
             {"fitSeconds", seconds},
-            {"machine",
-             {{"host", hostName()},
-              {"cpu", cpuModel()},
-              {"hardwareThreads", std::thread::hardware_concurrency()},
-              {"threadsUsed", settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())}}},
+            {"machine", machine(settings.threads)},
             {"date", utcNow()},
             {"fitter", "tyndall-fit-tables " TYNDALL_VERSION},
         };

@@ -36,10 +36,12 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, 
     const bool words = context_->device().shaderFloat64;
     const bool medium = f.hasMedium != 0;
     const bool surfaces = scene.surfaces.triangleCount > 0;
+    const bool ggx = surfaces && scene.anyGgx;
     const std::string key = std::to_string(f.lightCount) + "l-" + std::to_string(f.planeCount) + "p-" +
                             std::to_string(f.placement) + "-" + std::to_string(f.transmittance) +
                             (medium ? "" : "-nomedium") + (surfaces ? "" : "-nosurfaces") +
-                            (scene.anyTwoSided ? "-twosided" : "") + (words ? "-w" : "") + (ratio ? "-ratio" : "");
+                            (scene.anyTwoSided ? "-twosided" : "") + (ggx ? "-ggx" : "") + (words ? "-w" : "") +
+                            (ratio ? "-ratio" : "");
     auto it = kernels_.find(key);
     if (it != kernels_.end()) return *it->second;
     const auto start = std::chrono::steady_clock::now();
@@ -55,13 +57,14 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, 
     if (!medium) defines += "#define TY_LTSD_NO_MEDIUM\n";
     if (!surfaces) defines += "#define TY_LTSD_NO_SURFACES\n";
     if (!scene.anyTwoSided) defines += "#define TY_LTSD_ONE_SIDED\n";
+    if (!ggx) defines += "#define TY_LTSD_NO_GGX\n";
     if (words) defines += "#define TY_BVH_WORDS\n";
     if (ratio) defines += "#define TY_LTSD_RATIO\n";
     source.insert(source.find('\n') + 1, defines + "#line 2\n");
     gpu::CompileResult compiled = gpu::compileGlslSource(source, shaderPath(), gpu::ShaderStage::Compute);
     if (!compiled.ok) throw gpu::ShaderError(*compiled.error);
     auto k =
-        std::make_unique<gpu::ComputeKernel>(*context_, compiled.spirv, 8, std::uint32_t(sizeof(Push)), "ltsd_" + key);
+        std::make_unique<gpu::ComputeKernel>(*context_, compiled.spirv, 9, std::uint32_t(sizeof(Push)), "ltsd_" + key);
     compileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return *kernels_.emplace(key, std::move(k)).first->second;
 }
@@ -89,12 +92,13 @@ GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, in
     auto planes = upload(scene.planes);
     auto surfaceTriangles = upload(scene.surfaces.triangles);
     auto materials = upload(scene.surfaces.materials);
+    auto ltcEntries = upload(scene.ltcEntries);
     const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
     const std::uint64_t perPixel = ratio ? 4 : 2;
     gpu::Buffer radiance(ctx, pixels * perPixel * sizeof(glm::vec4));
     const std::vector<const gpu::Buffer*> bindings{nodes.get(),  triangles.get(),        frame.get(),
                                                    lights.get(), planes.get(),           surfaceTriangles.get(),
-                                                   materials.get(), &radiance};
+                                                   materials.get(), &radiance,           ltcEntries.get()};
     gpu::SliceStats stats;
     try {
         stats = gpu::runSliced(

@@ -18,6 +18,16 @@
 
 namespace tyndall {
 
+namespace {
+
+std::string formatDouble(double x) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof(buffer), "%.6g", x);
+    return buffer;
+}
+
+}  // namespace
+
 LtsdTechnique::LtsdTechnique() = default;
 LtsdTechnique::~LtsdTechnique() = default;
 
@@ -110,9 +120,10 @@ Support LtsdTechnique::supports(const AreaLight& light) const {
 }
 
 Support LtsdTechnique::supports(const Material& material) const {
-    if (material.kind != Material::Kind::Diffuse)
-        return Support::no("the GGX material '" + material.name +
-                           "' needs LTC GGX tables, which are not fitted yet; LTSD shades diffuse surfaces");
+    if (material.kind == Material::Kind::GGX && material.alphaX != material.alphaY)
+        return Support::no("the GGX material '" + material.name + "' is anisotropic (alphaX " +
+                           formatDouble(material.alphaX) + ", alphaY " + formatDouble(material.alphaY) +
+                           "): " + ltsd::ggxRefusal());
     return Support::yes();
 }
 
@@ -191,12 +202,6 @@ Image ratioTerm(const std::vector<glm::vec4>& sums, int width, int height, int t
             for (int c = 0; c < 3; ++c)
                 image.at(x, y, c) = sums[4 * (std::size_t(y) * width + x) + term][c];
     return image;
-}
-
-std::string formatDouble(double x) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof(buffer), "%.6g", x);
-    return buffer;
 }
 
 }  // namespace
@@ -291,6 +296,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
         meta["ltsd:table"] = scene.tablePath.empty() ? "none (exact)" : scene.tablePath;
         meta["ltsd:g"] = formatDouble(scene.g);
     }
+    if (scene.anyGgx) meta["ltsd:ltcTable"] = scene.ltcTablePath;
     meta["ltsd:shadows"] = shadows ? ltsd::shadowNames()[std::size_t(settings.shadows)] : "off";
     if (onGpu) {
         meta["gpu:longestSliceMs"] = formatDouble(longestSliceMs);

@@ -4,6 +4,7 @@
 
 #include "tyndall/error.h"
 #include "tyndall/geometry.h"
+#include "tyndall/ltc_table.h"
 #include "tyndall/ltsd_table.h"
 
 #include <algorithm>
@@ -46,6 +47,11 @@ shader::LtsdLight toLight(const AreaLight& a) {
 }
 
 }  // namespace
+
+std::string ggxRefusal() {
+    return "anisotropic GGX (alphaX != alphaY) needs the anisotropic LTC table of 002, which is not fitted yet; "
+           "diffuse and isotropic GGX are supported";
+}
 
 const std::vector<std::string>& placementNames() {
     static const std::vector<std::string> names{"midpoint", "transmittance", "equiangular"};
@@ -161,6 +167,27 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     f.planeCount = int(p.planes.size());
     if (p.planes.empty()) p.planes.emplace_back(0.0f);
 
+    // GGX surfaces read the isotropic LTC GGX table (docs/tables.md, "LTC GGX tables"); it is loaded only when a
+    // material needs it, so that a scene without GGX renders without the file.
+    for (const Material& m : scene.materials) {
+        if (m.kind != Material::Kind::GGX) continue;
+        if (m.alphaX != m.alphaY)
+            throw InputError(
+                InputLocation{"", 0, 0, "materials[" + m.name + "]"},
+                "the LTSD technique cannot render the anisotropic GGX material '" + m.name + "': " + ggxRefusal());
+        p.anyGgx = true;
+    }
+    if (p.anyGgx) {
+        p.ltcTablePath = ltcTablePath("ggx").string();
+        LtcTable table = loadLtcTable(p.ltcTablePath);
+        f.ltcXCount = table.xCount();
+        f.ltcAlphaCount = table.alphaCount();
+        f.ltcAlphaMin = table.alphaMin;
+        p.ltcEntries = std::move(table.entries);
+    } else {
+        p.ltcEntries.push_back(shader::LtcEntry{});
+    }
+
     p.surfaces = prepareGpuSurfaces(scene, projectDir);
     f.rayOffset = p.surfaces.rayOffset;
     return p;
@@ -189,5 +216,8 @@ SurfaceTriangle ltsdTriangle(int id) {
 }
 MaterialParams ltsdMaterial(int i) {
     return ltsd::bound().surfaces.materials[std::size_t(i)];
+}
+LtcEntry ltsdLtcEntry(int i) {
+    return ltsd::bound().ltcEntries[std::size_t(i)];
 }
 }  // namespace tyndall::shader

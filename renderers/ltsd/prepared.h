@@ -1,6 +1,6 @@
 // The LTSD technique's scene, prepared once per render for both paths: the std430 arrays of
-// shaders/shared/ltsd_scene.h (frame with the phase function's fitted LTSDs, lights, medium planes, surfaces) and the
-// BVH.
+// shaders/shared/ltsd_scene.h (frame with the phase function's fitted LTSDs, lights, medium planes, surfaces, the LTC
+// GGX table when a material is GGX) and the BVH.
 #pragma once
 
 #include "src/gpu_surfaces.h"
@@ -47,14 +47,20 @@ struct PreparedScene {
     double g = 0.0;         // the medium's HG (or mix) asymmetry (0 for the others)
     std::string tablePath;  // the LTSD table the frame's entries come from ("" without a medium, or exact: isotropic,
                             // eddington)
+    bool anyGgx = false;                       // a GGX material (isotropic: supports refuses anisotropic ones)
+    std::vector<shader::LtcEntry> ltcEntries;  // the isotropic LTC GGX table's entries; a dummy without GGX
+    std::string ltcTablePath;                  // the LTC table they come from ("" without GGX)
 };
+
+// Why an anisotropic GGX material is refused (supports and prepareScene quote it).
+std::string ggxRefusal();
 
 // The medium's phase function as the LTSD tables see it; throws InputError (with ltsdPhaseRefusal's reason) for one
 // the technique cannot render.
 LtsdPhase ltsdPhaseOf(const HomogeneousMedium& medium);
 
 // Throws InputError for scene content the technique cannot render or that is inconsistent: more than one medium, too
-// many lights, a table that is missing or corrupt.
+// many lights, an anisotropic GGX material, a table that is missing or corrupt.
 PreparedScene prepareScene(const Scene& scene, const Settings& settings, const std::string& projectDir);
 
 // Binds a prepared scene to the calling thread for the C++ definitions of the accessors of ltsd_scene.h (and its BVH

@@ -1,5 +1,7 @@
 #include "tyndall/ltsd_table.h"
 
+#include "table_file.h"
+
 #include "tyndall/error.h"
 
 #include <algorithm>
@@ -18,40 +20,14 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr char kMagic[8] = {'T', 'Y', 'L', 'T', 'S', 'D', '\r', '\n'};
 constexpr std::size_t kHeaderBytes = 64;
-constexpr std::size_t kChecksumOffset = 48;
 constexpr std::size_t kEntryBytes = sizeof(shader::LtsdEntry);
 static_assert(kEntryBytes == 48, "LtsdEntry must match its std430 layout (docs/tables.md)");
 
-// Little-endian fields; this machine and every target Tyndall builds for are little-endian.
-template <typename T>
-void put(std::vector<std::uint8_t>& bytes, std::size_t offset, T value) {
-    std::memcpy(bytes.data() + offset, &value, sizeof(T));
-}
-template <typename T>
-T get(const std::vector<std::uint8_t>& bytes, std::size_t offset) {
-    T value;
-    std::memcpy(&value, bytes.data() + offset, sizeof(T));
-    return value;
-}
-
-void writeAtomically(const std::filesystem::path& file, const void* data, std::size_t size) {
-    const std::filesystem::path tmp = file.string() + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw InputError(InputLocation{file.string(), 0, 0, ""}, "cannot write the file");
-        out.write(static_cast<const char*>(data), std::streamsize(size));
-        if (!out) throw InputError(InputLocation{file.string(), 0, 0, ""}, "cannot write the file");
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, file, ec);
-    if (ec) throw InputError(InputLocation{file.string(), 0, 0, ""}, "cannot write the file: " + ec.message());
-}
-
-std::string hex64(std::uint64_t v) {
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(v));
-    return text;
-}
+using table_file::get;
+using table_file::hex64;
+using table_file::kChecksumOffset;
+using table_file::put;
+using table_file::writeAtomically;
 
 // 8-point Gauss-Legendre nodes and weights on [-1, 1].
 constexpr std::array<double, 4> kGaussNodes = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
@@ -278,9 +254,7 @@ LtsdTable loadLtsdTable(const std::filesystem::path& file) {
     const auto fail = [&](const std::string& field, const std::string& message) {
         return InputError(InputLocation{file.string(), 0, 0, field}, message);
     };
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw fail("", "cannot open the LTSD table (set TYNDALL_TABLES_DIR or --tables to the folder holding it)");
-    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<std::uint8_t> bytes = table_file::readAll(file, "LTSD table");
     if (bytes.size() < kHeaderBytes || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
         throw fail("header", "not an LTSD table (no TYLTSD magic, or shorter than its 64-byte header)");
     const auto version = get<std::uint32_t>(bytes, 8);

@@ -2,10 +2,10 @@
 // The LTSD technique on the GPU: one invocation per pixel runs the shared renderer (shared/ltsd_scene.h).
 // renderers/ltsd/ compiles variants at run time by inserting defines after the #version line (see the top of
 // ltsd_scene.h): the light and plane counts, the placement and transmittance modes, and TY_LTSD_NO_MEDIUM,
-// TY_LTSD_NO_SURFACES, TY_LTSD_ONE_SIDED for what the scene lacks, so that lavapipe does not run code no lane takes;
-// TY_BVH_WORDS where the device has shaderFloat64. With TY_LTSD_RATIO the kernel is the ratio estimators' pass
-// instead: each invocation sums push.samples camera samples of its pixel. The build compiles this file as it is (every
-// mode, the analytic pass) so that CI validates it with spirv-val.
+// TY_LTSD_NO_SURFACES, TY_LTSD_ONE_SIDED, TY_LTSD_NO_GGX for what the scene lacks, so that lavapipe does not run code
+// no lane takes; TY_BVH_WORDS where the device has shaderFloat64. With TY_LTSD_RATIO the kernel is the ratio
+// estimators' pass instead: each invocation sums push.samples camera samples of its pixel. The build compiles this
+// file as it is (every mode, the analytic pass) so that CI validates it with spirv-val.
 #extension GL_GOOGLE_include_directive : require
 
 #define TY_BVH_NODES_BINDING 0
@@ -23,6 +23,8 @@ layout(std430, set = 0, binding = 6) readonly buffer Materials { MaterialParams 
 // Per pixel: the analytic pass writes A-bar and T L_c-bar (2 vec4s); the ratio pass the sums of the four terms of
 // LtsdRatioTerms (4 vec4s).
 layout(std430, set = 0, binding = 7) writeonly buffer Output { vec4 outputs[]; };
+// The isotropic LTC GGX table (shared/ltc.h), read by GGX surfaces (a dummy entry without them).
+layout(std430, set = 0, binding = 8) readonly buffer LtcEntries { LtcEntry ltcEntries[]; };
 
 layout(push_constant) uniform Push {
     uint first;    // first pixel of this dispatch
@@ -49,6 +51,7 @@ vec4 ltsdPlane(int i) { return planes[i]; }
 #endif
 SurfaceTriangle ltsdTriangle(int id) { return surfaceTriangles[id]; }
 MaterialParams ltsdMaterial(int i) { return materials[i]; }
+LtcEntry ltsdLtcEntry(int i) { return ltcEntries[i]; }
 
 void main() {
     sceneFrame = frame;

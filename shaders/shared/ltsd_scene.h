@@ -1,18 +1,19 @@
 // The LTSD technique's scene as the GPU sees it (std430 layouts, declared once for GLSL and C++) and the per-pixel
 // renderer shared by its compute shader and its CPU path: unshadowed single scattering from polygonal area lights in
 // one homogeneous medium (KT, Shah, Narayanan 2025, ../shared/papers/000), the semi-analytic Eq. 15 with the analytic
-// in-scattered radiance of Eq. 14 and the analytic surface radiance of Eq. 12. Derivations and what is approximated:
-// docs/ltsd.md.
+// in-scattered radiance of Eq. 14 and the analytic surface radiance of Eq. 12 (diffuse: the clamped cosine's exact
+// integral; isotropic GGX: the fitted LTC, shared/ltc.h). Derivations and what is approximated: docs/ltsd.md.
 //
 // The includer defines the accessors after including this header (as for bvh.h):
 //   LtsdLight ltsdLight(int i);  vec4 ltsdPlane(int i);  SurfaceTriangle ltsdTriangle(int id);
-//   MaterialParams ltsdMaterial(int i);
+//   MaterialParams ltsdMaterial(int i);  LtcEntry ltsdLtcEntry(int i);
 // and bvhNode / bvhTriangle for bvh.h.
 //
 // Compile-time variants (the GPU renderer defines them; the CPU path uses the frame's values):
 //   TY_LTSD_LIGHTS n         exactly n lights        TY_LTSD_PLANES n     exactly n medium planes (0: infinite)
 //   TY_LTSD_NO_MEDIUM        surfaces in vacuum      TY_LTSD_NO_SURFACES  no triangles
 //   TY_LTSD_ONE_SIDED        no light is two-sided   TY_LTSD_PLACEMENT k  TY_LTSD_TRANSMITTANCE k
+//   TY_LTSD_NO_GGX           no GGX material
 #ifndef TY_SHARED_LTSD_SCENE_H
 #define TY_SHARED_LTSD_SCENE_H
 
@@ -20,6 +21,7 @@
 #include "camera.h"
 #include "compat.h"
 #include "constants.h"
+#include "ltc.h"
 #include "ltsd.h"
 #include "phase.h"
 #include "rng.h"
@@ -75,9 +77,9 @@ struct LtsdFrame {
     float phaseB;          // eddington: b
     float phaseIsotropic;  // the exact part (isotropic + linear mu) / (4 pi) of ltsdPhaseIntegral (docs/tables.md)
     float phaseLinear;
-    float pad0;
-    float pad1;
-    float pad2;
+    int ltcXCount;      // the isotropic LTC GGX table (ltsdLtcEntry): entries over sqrt(1 - cos theta_o)
+    int ltcAlphaCount;  // entries over alpha
+    float ltcAlphaMin;  // alpha's grid is uniform over [ltcAlphaMin, 1]
 };
 
 // Supplied by the includer (see the top of the file).
@@ -85,6 +87,7 @@ LtsdLight ltsdLight(int i);
 vec4 ltsdPlane(int i);
 SurfaceTriangle ltsdTriangle(int id);
 MaterialParams ltsdMaterial(int i);
+LtcEntry ltsdLtcEntry(int i);
 
 TY_FUNC int ltsdLightCount(TY_IN(LtsdFrame) f) {
 #ifdef TY_LTSD_LIGHTS
@@ -348,9 +351,69 @@ TY_FUNC vec3 ltsdAirLight(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(vec3
     return sum;
 }
 
+// What the analytic surface term (Eq. 11-12 with Eq. 8) needs at a hit, once for all lights: the frame in which the
+// light's polygon is integrated and the lobe. Diffuse: the shading frame and the exact clamped cosine (BRDF albedo /
+// pi, so int f cos = albedo E). Isotropic GGX: the LTC frame (omega_o in its xz-plane), M^-1 of the bilinearly fetched
+// table entry and Schlick's hemispherical moment F0 (norm - fresnel) + fresnel (docs/tables.md, "LTC GGX tables").
+struct LtsdSurfaceLobe {
+    vec3 x;  // the polygon's frame (x, y, n)
+    vec3 y;
+    vec3 n;
+    int ggx;      // 1: the LTC of mInv; 0: the clamped cosine
+    mat3 mInv;    // GGX: M^-1
+    vec3 weight;  // diffuse: albedo; GGX: int f cos over the hemisphere with Schlick's Fresnel (0 seen from below)
+};
+
+TY_FUNC LtsdSurfaceLobe ltsdSurfaceLobe(TY_IN(LtsdFrame) f, TY_IN(MaterialParams) material, TY_IN(SurfaceFrame) frame,
+                                        TY_IN(vec3) wo) {
+    LtsdSurfaceLobe lobe;
+    lobe.x = frame.t;
+    lobe.y = frame.b;
+    lobe.n = frame.n;
+    lobe.ggx = 0;
+    lobe.mInv = mat3(1.0f);
+    lobe.weight = material.albedo;
+#ifndef TY_LTSD_NO_GGX
+    if (material.kind == kMaterialGgx) {
+        lobe.ggx = 1;
+        float cosTheta = dot(wo, frame.n);
+        vec3 tangent = wo - cosTheta * frame.n;
+        float l = length(tangent);
+        if (l > 1e-6f) lobe.x = tangent / l;
+        lobe.y = cross(frame.n, lobe.x);
+        LtcBilinear b = ltcFetchIsotropic(material.alphaX, cosTheta, f.ltcXCount, f.ltcAlphaCount, f.ltcAlphaMin);
+        LtcEntry e = ltcBilinearBlend(ltsdLtcEntry(b.i00), ltsdLtcEntry(b.i10), ltsdLtcEntry(b.i01),
+                                      ltsdLtcEntry(b.i11), b);
+        lobe.mInv = ltsdInverse(ltcMatrix(e));
+        lobe.weight = cosTheta > 0.0f ? ltcFresnelNorm(e, material.f0) : vec3(0.0f);
+    }
+#endif
+    return lobe;
+}
+
+// int over the light's polygon of f cos, approximately (GGX) or exactly (diffuse), seen from xs.
+TY_FUNC vec3 ltsdSurfaceIntegral(TY_IN(LtsdSurfaceLobe) lobe, TY_IN(LtsdLight) light, TY_IN(vec3) xs) {
+    SphericalPolygon p = ltsdLocalPolygon(light, xs, lobe.x, lobe.y, lobe.n);
+#ifndef TY_LTSD_NO_GGX
+    // Eq. 8 of 000: the LTC's integral, the clamped cosine's over M^-1 of the polygon clipped to the horizon.
+    if (lobe.ggx != 0) return lobe.weight * ltcPolygonIntegral(lobe.mInv, p);
+#endif
+    // Eq. 12: E of the polygon in the shading frame, clipped at its horizon.
+    return lobe.weight * ltsdClampedCosineIntegral(p);
+}
+
+// The BRDF of the ratio estimators' surface samples: albedo / pi for diffuse (for any view, as the analytic term), the
+// shared GGX (bsdf.h) otherwise; wo and wi in the shading frame.
+TY_FUNC vec3 ltsdSurfaceBrdf(TY_IN(MaterialParams) material, TY_IN(vec3) wo, TY_IN(vec3) wi) {
+#ifndef TY_LTSD_NO_GGX
+    if (material.kind == kMaterialGgx) return bsdfEval(material, wo, wi);
+#endif
+    return material.albedo * kInvPi;
+}
+
 // The radiance along the camera ray through the image point (x, y) in pixel coordinates, Eq. 15 in its two terms: the
-// quadrature of the air-light (`air`, A-bar) and the attenuated analytic surface radiance (Eq. 12) of the diffuse
-// surface behind (`surface`, T(y, x) L_c-bar).
+// quadrature of the air-light (`air`, A-bar) and the attenuated analytic surface radiance (Eq. 12) of the surface
+// behind (`surface`, T(y, x) L_c-bar).
 TY_FUNC void ltsdRayTerms(TY_IN(LtsdFrame) f, float x, float y, TY_OUT(vec3) air, TY_OUT(vec3) surface) {
     vec3 origin, dir;
     cameraRay(f.camera, x, y, origin, dir);
@@ -382,16 +445,15 @@ TY_FUNC void ltsdRayTerms(TY_IN(LtsdFrame) f, float x, float y, TY_OUT(vec3) air
         SurfaceFrame frame = surfaceFrame(st, hit.uv, dir);
         MaterialParams material = ltsdMaterial(st.material);
         vec3 xs = origin + hit.t * dir;
+        LtsdSurfaceLobe lobe = ltsdSurfaceLobe(f, material, frame, -dir);
         vec3 reflected = vec3(0.0f);
         for (int l = 0; l < kLtsdMaxLights; ++l) {
             if (l >= ltsdLightCount(f)) break;
             LtsdLight light = ltsdLight(l);
             if (!ltsdFacing(light, xs)) continue;
-            // Eq. 12: E of the polygon in the shading frame, clipped at its horizon; diffuse BRDF albedo / pi.
-            float e = ltsdClampedCosineIntegral(ltsdLocalPolygon(light, xs, frame.t, frame.b, frame.n));
-            reflected += light.radiance * ltsdMeanTransmittance(f, light, xs) * e;
+            reflected += light.radiance * ltsdMeanTransmittance(f, light, xs) * ltsdSurfaceIntegral(lobe, light, xs);
         }
-        surface = exp(-f.sigmaT * ltsdChord(f, origin, hit.t * dir)) * material.albedo * reflected;
+        surface = exp(-f.sigmaT * ltsdChord(f, origin, hit.t * dir)) * reflected;
     }
 #endif
 }
@@ -533,7 +595,8 @@ TY_FUNC LtsdRatioTerms ltsdRatioSample(TY_IN(LtsdFrame) f, int px, int py, uint 
 #endif
             float cosSurface = dot(wi, frame.ng) > 0.0f ? dot(wi, frame.n) : 0.0f;
             if (cosLight > 0.0f && cosSurface > 0.0f && r2 > 0.0f) {
-                vec3 value = exp(-f.sigmaT * ltsdChord(f, xs, v)) * material.albedo * kInvPi * light.radiance *
+                vec3 brdf = ltsdSurfaceBrdf(material, surfaceToLocal(frame, -dir), surfaceToLocal(frame, wi));
+                vec3 value = exp(-f.sigmaT * ltsdChord(f, xs, v)) * brdf * light.radiance *
                              (cosSurface * cosLight / r2 * area);
                 r.surfaceDenominator += value;
                 if (!bvhOccluded(xs + f.rayOffset * frame.ng, wi, 0.0f, rl * (1.0f - 1e-4f)))
