@@ -24,8 +24,13 @@
 namespace tyndall::tables {
 
 struct LtcFitSettings {
-    int xCount = 64;            // entries over x = sqrt(1 - cos theta_o), uniform over [0, 1]
-    int alphaCount = 64;        // entries over alpha, uniform over [alphaMin, 1]
+    bool anisotropic = false;  // the isotropic table (x, alpha) or the anisotropic one (theta, phi, alpha, ratio)
+    int xCount = 64;           // isotropic: entries over x = sqrt(1 - cos theta_o), uniform over [0, 1]
+    int alphaCount = 64;       // entries over alpha, uniform over [alphaMin, 1] (anisotropic: 8)
+    int thetaCount = 8;        // anisotropic: entries over theta_o, phi_o (uniform over [0, pi / 2]) and r = min / max
+    int phiCount = 8;          // roughness (uniform over [ratioMin, 1])
+    int ratioCount = 8;
+    float ratioMin = 0.1f;      // anisotropic: r's smallest grid value (below it lobes are thin arcs, docs/tables.md)
     float alphaMin = 1e-3f;     // the project's smallest roughness
     int samples = 1024;         // per strategy (visible normals, the LTC) of the loss's estimate
     int momentSamples = 16384;  // visible-normal samples of norm, fresnel and the stored error
@@ -49,6 +54,8 @@ class LtcLoss {
 public:
     LtcLoss(const glm::dvec3& wo, double alphaX, double alphaY, double norm, int samples);
     double operator()(const glm::dmat3& m) const;
+    // The normalised lobe's mean direction (estimated with the visible-normal samples), unit.
+    glm::dvec3 targetMean() const;
 
 private:
     // p (normalised) and the visible-normal density of direction w.
@@ -61,6 +68,26 @@ private:
     std::vector<glm::dvec3> cosineSamples_;
 };
 
+// The anisotropic table (002), an extension of the above per entry (it, ip, ia, ir) with omega_o at (theta_o, phi_o)
+// and the roughnesses (alpha, max(r alpha, alphaMin)):
+//  - theta_o = 0: the lobe is symmetric under both flips, M = diag(a, c, 1), found by Nelder-Mead over (a, c) from the
+//    isotropic one-parameter fits at either roughness (at r = 1 these fits themselves, a = c); every phi copies the
+//    entry at phi = 0 (002 Eq. 16);
+//  - phi_o = 0 (pi / 2): symmetric about the xz- (yz-) plane, the four-parameter form with the other entries exactly
+//    zero (002 Eq. 16);
+//  - otherwise all of M: Nelder-Mead over M_0 (I + P) with seven parameters (P(2, 2) = 0 fixes the scale,
+//    P(0, 1) = P(1, 0) the rotation about z that leaves an LTC unchanged), then aligned (002 Sec. 5.2) by the rotation
+//    about z that moves the cosine's samples least.
+//  M_0 is the best (smallest loss) of the entries at the previous theta, at normal incidence and, for the general
+//  form, at the previous phi and at phi = 0, each first rotated so that its LTC's mean direction is the lobe's: the
+//  lobes of neighbouring entries need not overlap at low roughness, where the loss is flat (002's "null gradients");
+//  - r = 1 (isotropic GGX): M(phi) = R_z(phi) M(0) R_z(-phi) from the fitted phi = 0 entry, exactly the rotated lobe,
+//    so that the swap symmetry (002 Eq. 14) is exact where alphaX = alphaY (beyond 002's post-processing).
+// Each row (ia, ir) is fitted in index order (theta fastest, then phi): an entry depends only on stored entries before
+// it in its row, given by `stored(index)`.
+shader::LtcEntry fitLtcAnisotropicEntry(int index, const LtcFitSettings& settings,
+                                        const std::function<const shader::LtcEntry&(int)>& stored);
+
 // The alignment of 002 (Sec. 5.2, Eq. 12): M R_z(psi) F (F a flip of x and/or y) represents the same LTC for every psi
 // and F; the aligned matrix is the one that moves the clamped cosine's samples least, minimising the mean of
 // |M' s / |M' s| - s|^2 over fixed samples s. Found by a scan over psi (0.5 degree steps) and golden-section search,
@@ -71,7 +98,8 @@ struct LtcAlignment {
     glm::dmat3 aligned;  // M R_z(psi) F
     double cost;         // the mean squared distance at the aligned matrix
 };
-LtcAlignment ltcAlignment(const glm::dmat3& m);
+// `flips` false: rotations only (which include flipping both x and y), keeping det M's sign; `samples` cosine samples.
+LtcAlignment ltcAlignment(const glm::dmat3& m, bool flips = true, int samples = 1024, double step = 0.5);
 
 // The stored entry at index ia * xCount + ix (docs/tables.md): the fitted M (third column of unit length), the moments
 // and the loss at M with momentSamples samples. `previous` is the stored entry at (ix - 1, ia); unused (may be null)
@@ -80,7 +108,12 @@ shader::LtcEntry fitLtcEntry(int index, const LtcFitSettings& settings, const sh
 
 // Fits the rows (alpha indices) listed (all when empty), each from ix = 0 to xCount - 1, on settings.threads threads;
 // `progress(done, total)` (entries) is called from the calling thread. Entries of rows not listed are left zero.
+// Anisotropic: the rows are the chains ir * alphaCount + ia.
 std::vector<shader::LtcEntry> fitLtcRows(const LtcFitSettings& settings, const std::vector<int>& rows,
                                          const std::function<void(int, int)>& progress);
+
+// The number of entries of the table the settings describe, and of entries per row (chain).
+int ltcEntryCount(const LtcFitSettings& settings);
+int ltcRowLength(const LtcFitSettings& settings);
 
 }  // namespace tyndall::tables

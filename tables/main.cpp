@@ -86,22 +86,28 @@ std::string commandLine(int argc, char** argv) {
     return command;
 }
 
-// The LTC table's error summary: the stored total-variation distance per entry, its maximum and mean per alpha row.
-nlohmann::json ltcErrorSummary(const LtcTable& table) {
+// The LTC table's error summary: the stored total-variation distance per entry, its maximum and mean per row (alpha;
+// anisotropic: alpha and r).
+nlohmann::json ltcErrorSummary(const LtcTable& table, const tables::LtcFitSettings& settings) {
     double maxTv = 0.0, sumTv = 0.0;
     nlohmann::json rows = nlohmann::json::array();
-    for (int ia = 0; ia < table.alphaCount(); ++ia) {
+    const int length = tables::ltcRowLength(settings), rowCount = tables::ltcEntryCount(settings) / length;
+    for (int row = 0; row < rowCount; ++row) {
         double rowMax = 0.0, rowSum = 0.0;
-        for (int ix = 0; ix < table.xCount(); ++ix) {
-            const double tv = table.entries[size_t(ia * table.xCount() + ix)].error;
+        for (int j = 0; j < length; ++j) {
+            const double tv = table.entries[size_t(row * length + j)].error;
             rowMax = std::max(rowMax, tv);
             rowSum += tv;
         }
         maxTv = std::max(maxTv, rowMax);
         sumTv += rowSum;
-        rows.push_back({{"alpha", LtcTable::gridAlpha(ia, table.alphaCount(), table.alphaMin)},
-                        {"tvMax", rowMax},
-                        {"tvMean", rowSum / table.xCount()}});
+        const int ia = row % table.alphaCount();
+        nlohmann::json summary = {{"alpha", LtcTable::gridAlpha(ia, table.alphaCount(), table.alphaMin)},
+                                  {"tvMax", rowMax},
+                                  {"tvMean", rowSum / length}};
+        if (!table.isotropicTable())
+            summary["ratio"] = LtcTable::gridRatio(row / table.alphaCount(), table.ratioCount(), table.ratioMin);
+        rows.push_back(summary);
     }
     return {{"entryTotalVariationMax", maxTv},
             {"entryTotalVariationMean", sumTv / double(table.entries.size())},
@@ -119,35 +125,44 @@ int runLtc(tables::LtcFitSettings settings, const std::string& out, const std::s
         reference = loadLtcTable(check);
         if (reference.provenance.contains("settings"))
             tables::ltcSettingsFromJson(reference.provenance["settings"], settings);
-        if (reference.xCount() != settings.xCount || reference.alphaCount() != settings.alphaCount) {
-            std::fprintf(stderr, "tyndall-fit-tables: %s: is %d x %d, the settings %d x %d\n", check.c_str(),
-                         reference.xCount(), reference.alphaCount(), settings.xCount, settings.alphaCount);
+        if (int(reference.entries.size()) != tables::ltcEntryCount(settings) ||
+            reference.isotropicTable() == settings.anisotropic) {
+            std::fprintf(stderr, "tyndall-fit-tables: %s: has %zu entries, the settings %d\n", check.c_str(),
+                         reference.entries.size(), tables::ltcEntryCount(settings));
             return 1;
         }
     }
     const bool terminal = isatty(fileno(stderr));
     const auto start = std::chrono::steady_clock::now();
     if (!check.empty()) {
-        // Each entry depends only on the stored entry before it (ltc_fit.h), so entries are re-fitted from the shipped
-        // predecessors: all of them, or with --quick a few per alpha row across theta.
+        // Each entry depends only on stored entries before it in its row (ltc_fit.h), so entries are re-fitted from the
+        // shipped predecessors: all of them, or with --quick a few per row in four rows. Anisotropic: the quick entries
+        // cover every kind (theta = 0, phi = 0, general, phi = pi / 2).
         std::vector<int> indices;
-        const int nx = settings.xCount, na = settings.alphaCount;
-        for (int ia = 0; ia < na; ++ia)
-            for (int ix = 0; ix < nx; ++ix) {
-                const bool pick = !quick || ((ia == 0 || ia == na / 3 || ia == (2 * na) / 3 || ia == na - 1) &&
-                                             (ix == 0 || ix == 1 || ix == nx / 2 || ix == nx - 1));
-                if (pick) indices.push_back(ia * nx + ix);
+        const int length = tables::ltcRowLength(settings), rows = tables::ltcEntryCount(settings) / length;
+        const int nt = settings.thetaCount;
+        const std::vector<int> quickPositions =
+            settings.anisotropic ? std::vector<int>{0, 1, nt - 1, nt + 3, (length / 2) + nt / 2, length - 1}
+                                 : std::vector<int>{0, 1, length / 2, length - 1};
+        for (int row = 0; row < rows; ++row)
+            for (int j = 0; j < length; ++j) {
+                const bool quickRow = row == 0 || row == rows / 3 || row == (2 * rows) / 3 || row == rows - 1;
+                const bool pick = !quick || (quickRow && std::find(quickPositions.begin(), quickPositions.end(), j) !=
+                                                             quickPositions.end());
+                if (pick) indices.push_back(row * length + j);
             }
+        const auto stored = [&](int i) -> const shader::LtcEntry& { return reference.entries[size_t(i)]; };
         int differing = 0;
         for (size_t k = 0; k < indices.size(); ++k) {
             const int i = indices[k];
             const shader::LtcEntry e =
-                tables::fitLtcEntry(i, settings, i % nx > 0 ? &reference.entries[size_t(i - 1)] : nullptr);
+                settings.anisotropic
+                    ? tables::fitLtcAnisotropicEntry(i, settings, stored)
+                    : tables::fitLtcEntry(i, settings, i % length > 0 ? &reference.entries[size_t(i - 1)] : nullptr);
             if (std::memcmp(&e, &reference.entries[size_t(i)], sizeof e) != 0) {
                 ++differing;
-                std::fprintf(stderr, "entry %d (alpha %.4f, cos theta %.4f): m00 = %.9g, shipped %.9g; error %.6g, "
-                             "shipped %.6g\n", i, reference.entryAlpha(i), reference.entryCosTheta(i), double(e.m[0]),
-                             double(reference.entries[size_t(i)].m[0]), double(e.error),
+                std::fprintf(stderr, "entry %d: m00 = %.9g, shipped %.9g; error %.6g, shipped %.6g\n", i,
+                             double(e.m[0]), double(reference.entries[size_t(i)].m[0]), double(e.error),
                              double(reference.entries[size_t(i)].error));
             }
             if (terminal) std::fprintf(stderr, "\rre-fitting: %zu / %zu", k + 1, indices.size());
@@ -161,28 +176,36 @@ int runLtc(tables::LtcFitSettings settings, const std::string& out, const std::s
         if (done == lastReported) return;
         lastReported = done;
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::fprintf(stderr, "%sfitting ggx LTC: %d / %d entries, %.1f s%s", terminal ? "\r" : "", done, total,
-                     seconds, terminal && done < total ? "" : "\n");
+        std::fprintf(stderr, "%sfitting %s LTC: %d / %d entries, %.1f s%s", terminal ? "\r" : "",
+                     settings.anisotropic ? "anisotropic GGX" : "GGX", done, total, seconds,
+                     terminal && done < total ? "" : "\n");
     };
+    const int length = tables::ltcRowLength(settings), rowCount = tables::ltcEntryCount(settings) / length;
     std::vector<int> rows;
     if (quick)
-        for (int ia = 0; ia < settings.alphaCount; ia += 16) rows.push_back(ia);
+        for (int row = 0; row < rowCount; row += 16)
+            rows.push_back(row);
     LtcTable table;
-    table.dimensions = 2;
-    table.sizes = {settings.xCount, settings.alphaCount, 1, 1};
+    table.dimensions = settings.anisotropic ? 4 : 2;
+    table.sizes = settings.anisotropic
+                      ? std::array<int, 4>{settings.thetaCount, settings.phiCount, settings.alphaCount,
+                                           settings.ratioCount}
+                      : std::array<int, 4>{settings.xCount, settings.alphaCount, 1, 1};
     table.alphaMin = settings.alphaMin;
+    table.ratioMin = settings.anisotropic ? settings.ratioMin : 0.0f;
     table.entries = tables::fitLtcRows(settings, rows, progress);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (quick) {  // a partial table cannot be loaded (zero matrices): fill the missing rows by copying, and say so
-        for (int ia = 0; ia < settings.alphaCount; ++ia)
-            if (ia % 16 != 0)
-                for (int ix = 0; ix < settings.xCount; ++ix)
-                    table.entries[size_t(ia * settings.xCount + ix)] =
-                        table.entries[size_t((ia - ia % 16) * settings.xCount + ix)];
+        for (int row = 0; row < rowCount; ++row)
+            if (row % 16 != 0)
+                for (int j = 0; j < length; ++j)
+                    table.entries[size_t(row * length + j)] = table.entries[size_t((row - row % 16) * length + j)];
     }
     table.provenance = {
         {"format", "docs/tables.md"},
-        {"brdf", "GGX, height-correlated Smith, F = 1 (Schlick applied at run time from norm and fresnel); isotropic"},
+        {"brdf", std::string("GGX, height-correlated Smith, F = 1 (Schlick applied at run time from norm and "
+                             "fresnel); ") +
+                     (settings.anisotropic ? "anisotropic (002)" : "isotropic")},
         {"source", "clamped cosine"},
         {"command", commandLine(argc, argv)},
         {"seed", 0},
@@ -195,7 +218,7 @@ int runLtc(tables::LtcFitSettings settings, const std::string& out, const std::s
         {"date", utcNow()},
         {"fitter", "tyndall-fit-tables " TYNDALL_VERSION},
     };
-    if (!quick) table.provenance["errorSummary"] = ltcErrorSummary(table);
+    if (!quick) table.provenance["errorSummary"] = ltcErrorSummary(table, settings);
     saveLtcTable(table, out);
     std::printf("wrote %s (%zu entries, %.1f s)\n", out.c_str(), table.entries.size(), seconds);
     return 0;
@@ -210,9 +233,12 @@ int main(int argc, char** argv) {
     tables::LtcFitSettings ltcSettings;
     std::string out, check;
     bool quick = false, ltc = false;
-    app.add_flag("--ltc", ltc, "fit the isotropic LTC GGX table instead (docs/tables.md, \"LTC GGX tables\"); "
-                               "implied by --check FILE.ltc");
-    app.add_option("--ltc-size", ltcSettings.xCount, "--ltc: entries over sqrt(1 - cos theta) and over alpha")
+    app.add_flag("--ltc", ltc, "fit the LTC GGX table instead (docs/tables.md, \"LTC GGX tables\"); implied by "
+                               "--check FILE.ltc");
+    bool aniso = false;
+    app.add_flag("--aniso", aniso, "with --ltc: the anisotropic table of 002 (theta, phi, alpha, r; 8^4 entries)");
+    app.add_option("--ltc-size", ltcSettings.xCount,
+                   "--ltc: entries over sqrt(1 - cos theta) and over alpha (64); --aniso: per dimension (8)")
         ->check(CLI::Range(2, 4096));
     app.add_option("--ltc-samples", ltcSettings.samples, "--ltc: samples per strategy of the loss")
         ->check(CLI::Range(16, 1 << 20));
@@ -242,7 +268,10 @@ int main(int argc, char** argv) {
     }
     try {
         if (ltc || (check.size() > 4 && check.compare(check.size() - 4, 4, ".ltc") == 0)) {
+            ltcSettings.anisotropic = aniso;
+            if (aniso && app.count("--ltc-size") == 0) ltcSettings.xCount = 8;
             ltcSettings.alphaCount = ltcSettings.xCount;
+            ltcSettings.thetaCount = ltcSettings.phiCount = ltcSettings.ratioCount = ltcSettings.xCount;
             ltcSettings.threads = settings.threads;
             return runLtc(ltcSettings, out, check, quick, argc, argv);
         }

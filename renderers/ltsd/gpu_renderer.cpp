@@ -37,11 +37,12 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, 
     const bool medium = f.hasMedium != 0;
     const bool surfaces = scene.surfaces.triangleCount > 0;
     const bool ggx = surfaces && scene.anyGgx;
+    const bool anisotropic = ggx && scene.anyAnisotropic;
     const std::string key = std::to_string(f.lightCount) + "l-" + std::to_string(f.planeCount) + "p-" +
                             std::to_string(f.placement) + "-" + std::to_string(f.transmittance) +
                             (medium ? "" : "-nomedium") + (surfaces ? "" : "-nosurfaces") +
-                            (scene.anyTwoSided ? "-twosided" : "") + (ggx ? "-ggx" : "") + (words ? "-w" : "") +
-                            (ratio ? "-ratio" : "");
+                            (scene.anyTwoSided ? "-twosided" : "") + (ggx ? "-ggx" : "") +
+                            (anisotropic ? "-aniso" : "") + (words ? "-w" : "") + (ratio ? "-ratio" : "");
     auto it = kernels_.find(key);
     if (it != kernels_.end()) return *it->second;
     const auto start = std::chrono::steady_clock::now();
@@ -58,6 +59,7 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, 
     if (!surfaces) defines += "#define TY_LTSD_NO_SURFACES\n";
     if (!scene.anyTwoSided) defines += "#define TY_LTSD_ONE_SIDED\n";
     if (!ggx) defines += "#define TY_LTSD_NO_GGX\n";
+    if (!anisotropic) defines += "#define TY_LTSD_NO_ANISOTROPIC\n";
     if (words) defines += "#define TY_BVH_WORDS\n";
     if (ratio) defines += "#define TY_LTSD_RATIO\n";
     source.insert(source.find('\n') + 1, defines + "#line 2\n");

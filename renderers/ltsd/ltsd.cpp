@@ -119,12 +119,8 @@ Support LtsdTechnique::supports(const AreaLight& light) const {
     return Support::yes();
 }
 
-Support LtsdTechnique::supports(const Material& material) const {
-    if (material.kind == Material::Kind::GGX && material.alphaX != material.alphaY)
-        return Support::no("the GGX material '" + material.name + "' is anisotropic (alphaX " +
-                           formatDouble(material.alphaX) + ", alphaY " + formatDouble(material.alphaY) +
-                           "): " + ltsd::ggxRefusal());
-    return Support::yes();
+Support LtsdTechnique::supports(const Material&) const {
+    return Support::yes();  // diffuse, and GGX isotropic or anisotropic through the LTC GGX tables
 }
 
 void LtsdTechnique::check(const RenderRequest& request) const {
@@ -296,7 +292,8 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
         meta["ltsd:table"] = scene.tablePath.empty() ? "none (exact)" : scene.tablePath;
         meta["ltsd:g"] = formatDouble(scene.g);
     }
-    if (scene.anyGgx) meta["ltsd:ltcTable"] = scene.ltcTablePath;
+    if (!scene.ltcTablePath.empty()) meta["ltsd:ltcTable"] = scene.ltcTablePath;
+    if (!scene.ltcAnisotropicTablePath.empty()) meta["ltsd:ltcAnisotropicTable"] = scene.ltcAnisotropicTablePath;
     meta["ltsd:shadows"] = shadows ? ltsd::shadowNames()[std::size_t(settings.shadows)] : "off";
     if (onGpu) {
         meta["gpu:longestSliceMs"] = formatDouble(longestSliceMs);

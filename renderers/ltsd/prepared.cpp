@@ -48,11 +48,6 @@ shader::LtsdLight toLight(const AreaLight& a) {
 
 }  // namespace
 
-std::string ggxRefusal() {
-    return "anisotropic GGX (alphaX != alphaY) needs the anisotropic LTC table of 002, which is not fitted yet; "
-           "diffuse and isotropic GGX are supported";
-}
-
 const std::vector<std::string>& placementNames() {
     static const std::vector<std::string> names{"midpoint", "transmittance", "equiangular"};
     return names;
@@ -167,26 +162,45 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     f.planeCount = int(p.planes.size());
     if (p.planes.empty()) p.planes.emplace_back(0.0f);
 
-    // GGX surfaces read the isotropic LTC GGX table (docs/tables.md, "LTC GGX tables"); it is loaded only when a
-    // material needs it, so that a scene without GGX renders without the file.
+    // GGX surfaces read the LTC GGX tables (docs/tables.md, "LTC GGX tables"): the isotropic one for alphaX = alphaY,
+    // the anisotropic one otherwise, each loaded only when a material needs it (so that a scene without GGX renders
+    // without the files), one after the other in one buffer.
+    bool isotropicGgx = false;
     for (const Material& m : scene.materials) {
         if (m.kind != Material::Kind::GGX) continue;
-        if (m.alphaX != m.alphaY)
-            throw InputError(
-                InputLocation{"", 0, 0, "materials[" + m.name + "]"},
-                "the LTSD technique cannot render the anisotropic GGX material '" + m.name + "': " + ggxRefusal());
         p.anyGgx = true;
+        if (m.alphaX != m.alphaY)
+            p.anyAnisotropic = true;
+        else
+            isotropicGgx = true;
     }
-    if (p.anyGgx) {
+    if (isotropicGgx) {
         p.ltcTablePath = ltcTablePath("ggx").string();
         LtcTable table = loadLtcTable(p.ltcTablePath);
+        if (!table.isotropicTable())
+            throw InputError(InputLocation{p.ltcTablePath, 0, 0, "header.dimensions"},
+                             "the isotropic LTC GGX table must have 2 dimensions");
         f.ltcXCount = table.xCount();
         f.ltcAlphaCount = table.alphaCount();
         f.ltcAlphaMin = table.alphaMin;
         p.ltcEntries = std::move(table.entries);
-    } else {
-        p.ltcEntries.push_back(shader::LtcEntry{});
     }
+    if (p.anyAnisotropic) {
+        p.ltcAnisotropicTablePath = ltcTablePath("ggx-aniso").string();
+        LtcTable table = loadLtcTable(p.ltcAnisotropicTablePath);
+        if (table.isotropicTable())
+            throw InputError(InputLocation{p.ltcAnisotropicTablePath, 0, 0, "header.dimensions"},
+                             "the anisotropic LTC GGX table must have 4 dimensions");
+        f.ltcAnisoBase = int(p.ltcEntries.size());
+        f.ltcAnisoThetaCount = table.thetaCount();
+        f.ltcAnisoPhiCount = table.phiCount();
+        f.ltcAnisoAlphaCount = table.alphaCount();
+        f.ltcAnisoRatioCount = table.ratioCount();
+        f.ltcAnisoAlphaMin = table.alphaMin;
+        f.ltcAnisoRatioMin = table.ratioMin;
+        p.ltcEntries.insert(p.ltcEntries.end(), table.entries.begin(), table.entries.end());
+    }
+    if (p.ltcEntries.empty()) p.ltcEntries.push_back(shader::LtcEntry{});
 
     p.surfaces = prepareGpuSurfaces(scene, projectDir);
     f.rayOffset = p.surfaces.rayOffset;

@@ -47,20 +47,20 @@ struct PreparedScene {
     double g = 0.0;         // the medium's HG (or mix) asymmetry (0 for the others)
     std::string tablePath;  // the LTSD table the frame's entries come from ("" without a medium, or exact: isotropic,
                             // eddington)
-    bool anyGgx = false;                       // a GGX material (isotropic: supports refuses anisotropic ones)
-    std::vector<shader::LtcEntry> ltcEntries;  // the isotropic LTC GGX table's entries; a dummy without GGX
-    std::string ltcTablePath;                  // the LTC table they come from ("" without GGX)
+    bool anyGgx = false;                       // a GGX material
+    bool anyAnisotropic = false;               // an anisotropic GGX material (alphaX != alphaY)
+    std::vector<shader::LtcEntry> ltcEntries;  // the LTC GGX tables' entries (isotropic, then anisotropic from
+                                               // frame.ltcAnisoBase); a dummy without GGX
+    std::string ltcTablePath;                  // the isotropic table ("" when no material needs it)
+    std::string ltcAnisotropicTablePath;       // the anisotropic table ("" when no material needs it)
 };
-
-// Why an anisotropic GGX material is refused (supports and prepareScene quote it).
-std::string ggxRefusal();
 
 // The medium's phase function as the LTSD tables see it; throws InputError (with ltsdPhaseRefusal's reason) for one
 // the technique cannot render.
 LtsdPhase ltsdPhaseOf(const HomogeneousMedium& medium);
 
 // Throws InputError for scene content the technique cannot render or that is inconsistent: more than one medium, too
-// many lights, an anisotropic GGX material, a table that is missing or corrupt.
+// many lights, a table that is missing or corrupt.
 PreparedScene prepareScene(const Scene& scene, const Settings& settings, const std::string& projectDir);
 
 // Binds a prepared scene to the calling thread for the C++ definitions of the accessors of ltsd_scene.h (and its BVH

@@ -55,6 +55,32 @@ double LtcTable::gridCosTheta(int ix, int xCount) {
     return std::max(1.0 - x * x, double(shader::kLtcMinCosTheta));
 }
 
+double LtcTable::gridTheta(int it, int thetaCount) {
+    const double theta = 0.5 * kPi * double(it) / double(thetaCount - 1);
+    return std::min(theta, std::acos(double(shader::kLtcMinCosTheta)));
+}
+
+double LtcTable::gridPhi(int ip, int phiCount) {
+    return 0.5 * kPi * double(ip) / double(phiCount - 1);
+}
+
+double LtcTable::gridRatio(int ir, int ratioCount, double ratioMin) {
+    return ratioMin + (1.0 - ratioMin) * double(ir) / double(ratioCount - 1);
+}
+
+shader::LtcEntry LtcTable::anisotropic(double alphaX, double alphaY, const glm::dvec3& wo,
+                                       glm::mat3& toCanonical) const {
+    TY_CHECK(dimensions == 4, "the anisotropic fetch needs the anisotropic table");
+    const shader::LtcQuadrilinear q =
+        shader::ltcFetchAnisotropic(float(alphaX), float(alphaY), glm::vec3(wo), thetaCount(), phiCount(), alphaCount(),
+                                    ratioCount(), alphaMin, ratioMin);
+    shader::LtcEntry e = shader::ltcZeroEntry();
+    for (int k = 0; k < 16; ++k)
+        e = shader::ltcAddWeighted(e, entries[size_t(shader::ltcCornerIndex(q, k))], shader::ltcCornerWeight(q, k));
+    toCanonical = q.toCanonical;
+    return e;
+}
+
 shader::LtcEntry LtcTable::isotropic(double alpha, double cosTheta) const {
     const shader::LtcBilinear f =
         shader::ltcFetchIsotropic(float(alpha), float(cosTheta), xCount(), alphaCount(), alphaMin);
@@ -62,19 +88,26 @@ shader::LtcEntry LtcTable::isotropic(double alpha, double cosTheta) const {
                                     entries[size_t(f.i11)], f);
 }
 
-glm::dvec3 LtcTable::integral(const shader::SphericalPolygon& polygon, const glm::dvec3& wo, double alpha,
-                              const glm::dvec3& f0) const {
+glm::dvec3 LtcTable::integral(const shader::SphericalPolygon& polygon, const glm::dvec3& wo, double alphaX,
+                              double alphaY, const glm::dvec3& f0) const {
     if (wo.z <= 0.0) return glm::dvec3(0.0);
-    const shader::LtcEntry e = isotropic(alpha, wo.z);
-    const shader::SphericalPolygon local = shader::ltcToIsotropicFrame(polygon, glm::vec3(wo));
-    return glm::dvec3(shader::ltcBrdfIntegral(e, glm::vec3(f0), local));
+    if (isotropicTable()) {
+        TY_CHECK(alphaX == alphaY, "the isotropic LTC table needs alphaX == alphaY");
+        const shader::LtcEntry e = isotropic(alphaX, wo.z);
+        const shader::SphericalPolygon local = shader::ltcToIsotropicFrame(polygon, glm::vec3(wo));
+        return glm::dvec3(shader::ltcBrdfIntegral(e, glm::vec3(f0), local));
+    }
+    glm::mat3 toCanonical;
+    const shader::LtcEntry e = anisotropic(alphaX, alphaY, wo, toCanonical);
+    const glm::mat3 mInv = shader::ltsdInverse(shader::ltcMatrix(e)) * toCanonical;
+    return glm::dvec3(shader::ltcFresnelNorm(e, glm::vec3(f0)) * shader::ltcPolygonIntegral(mInv, polygon));
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
 // File format (docs/tables.md, "LTC GGX tables")
 
 void saveLtcTable(const LtcTable& table, const std::filesystem::path& file) {
-    TY_CHECK(table.dimensions == 2, "an LTC table is isotropic (2 dimensions)");
+    TY_CHECK(table.dimensions == 2 || table.dimensions == 4, "an LTC table has 2 or 4 dimensions");
     TY_CHECK(table.entries.size() == entryCount(table.sizes), "an LTC table holds the product of its sizes");
     std::vector<std::uint8_t> bytes(kHeaderBytes + kEntryBytes * table.entries.size(), 0);
     std::memcpy(bytes.data(), kMagic, sizeof kMagic);
@@ -86,6 +119,7 @@ void saveLtcTable(const LtcTable& table, const std::filesystem::path& file) {
         put<std::uint32_t>(bytes, 24 + 4 * std::size_t(d), std::uint32_t(table.sizes[size_t(d)]));
     put<std::uint64_t>(bytes, 40, std::uint64_t(kEntryBytes * table.entries.size()));
     put<float>(bytes, 56, shader::kLtcMinCosTheta);
+    put<float>(bytes, 60, table.ratioMin);
     std::memcpy(bytes.data() + kHeaderBytes, table.entries.data(), kEntryBytes * table.entries.size());
     const std::uint64_t checksum = ltsdTableChecksum(bytes);
     put<std::uint64_t>(bytes, kChecksumOffset, checksum);
@@ -113,8 +147,9 @@ LtcTable loadLtcTable(const std::filesystem::path& file) {
     LtcTable table;
     table.path = file.string();
     table.dimensions = int(get<std::uint32_t>(bytes, 12));
-    if (table.dimensions != 2)
-        throw fail("header.dimensions", "must be 2 (the isotropic table), got " + std::to_string(table.dimensions));
+    if (table.dimensions != 2 && table.dimensions != 4)
+        throw fail("header.dimensions",
+                   "must be 2 (isotropic) or 4 (anisotropic), got " + std::to_string(table.dimensions));
     const auto entryBytes = get<std::uint32_t>(bytes, 16);
     if (entryBytes != kEntryBytes) throw fail("header.entryBytes", "must be 48, got " + std::to_string(entryBytes));
     for (int d = 0; d < 4; ++d) {
@@ -137,6 +172,11 @@ LtcTable loadLtcTable(const std::filesystem::path& file) {
     table.alphaMin = get<float>(bytes, 20);
     if (!(table.alphaMin > 0.0f && table.alphaMin < 1.0f))
         throw fail("header.alphaMin", "must be in (0, 1), got " + std::to_string(table.alphaMin));
+    table.ratioMin = get<float>(bytes, 60);
+    if (table.isotropicTable() ? table.ratioMin != 0.0f : !(table.ratioMin >= 0.0f && table.ratioMin < 1.0f))
+        throw fail("header.ratioMin",
+                   std::string(table.isotropicTable() ? "must be 0 in an isotropic table" : "must be in [0, 1)") +
+                       ", got " + std::to_string(table.ratioMin));
     const float cosMin = get<float>(bytes, 56);
     if (cosMin != shader::kLtcMinCosTheta)
         throw fail("header.cosThetaMin", "must be " + std::to_string(shader::kLtcMinCosTheta) +

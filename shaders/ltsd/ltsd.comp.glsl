@@ -2,8 +2,8 @@
 // The LTSD technique on the GPU: one invocation per pixel runs the shared renderer (shared/ltsd_scene.h).
 // renderers/ltsd/ compiles variants at run time by inserting defines after the #version line (see the top of
 // ltsd_scene.h): the light and plane counts, the placement and transmittance modes, and TY_LTSD_NO_MEDIUM,
-// TY_LTSD_NO_SURFACES, TY_LTSD_ONE_SIDED, TY_LTSD_NO_GGX for what the scene lacks, so that lavapipe does not run code
-// no lane takes; TY_BVH_WORDS where the device has shaderFloat64. With TY_LTSD_RATIO the kernel is the ratio
+// TY_LTSD_NO_SURFACES, TY_LTSD_ONE_SIDED, TY_LTSD_NO_GGX, TY_LTSD_NO_ANISOTROPIC for what the scene lacks, so that
+// lavapipe does not run code no lane takes; TY_BVH_WORDS where the device has shaderFloat64. With TY_LTSD_RATIO the kernel is the ratio
 // estimators' pass instead: each invocation sums push.samples camera samples of its pixel. The build compiles this
 // file as it is (every mode, the analytic pass) so that CI validates it with spirv-val.
 #extension GL_GOOGLE_include_directive : require
@@ -23,7 +23,8 @@ layout(std430, set = 0, binding = 6) readonly buffer Materials { MaterialParams 
 // Per pixel: the analytic pass writes A-bar and T L_c-bar (2 vec4s); the ratio pass the sums of the four terms of
 // LtsdRatioTerms (4 vec4s).
 layout(std430, set = 0, binding = 7) writeonly buffer Output { vec4 outputs[]; };
-// The isotropic LTC GGX table (shared/ltc.h), read by GGX surfaces (a dummy entry without them).
+// The LTC GGX tables (shared/ltc.h; isotropic, then anisotropic from frame.ltcAnisoBase), read by GGX surfaces (a
+// dummy entry without them).
 layout(std430, set = 0, binding = 8) readonly buffer LtcEntries { LtcEntry ltcEntries[]; };
 
 layout(push_constant) uniform Push {

@@ -1,8 +1,9 @@
 // Linearly transformed cosines (LTCs, Heitz et al. 2016) of GGX with height-correlated Smith, shared by GLSL and C++:
-// the fitted table's entry, its fetch with bilinear interpolation over (alpha, sqrt(1 - cos theta_o)), the polygon
-// integral of an LTC (the polygon clipped to the surface's horizon, transformed by M^-1, then the clamped cosine's edge
-// integral of ltsd.h), and Schlick's Fresnel applied at run time from the entry's two moments. Derivations, the
-// table's format and its measured quality: docs/tables.md ("LTC GGX tables").
+// the fitted tables' entry, the isotropic table's fetch with bilinear interpolation over (alpha, sqrt(1 - cos
+// theta_o)), the anisotropic table's quadrilinear fetch with the symmetries of 002 (Eq. 13-15), the polygon integral of
+// an LTC (the polygon clipped to the surface's horizon, transformed by M^-1, then the clamped cosine's edge integral of
+// ltsd.h), and Schlick's Fresnel applied at run time from the entry's two moments. Derivations, the tables' format and
+// their measured quality: docs/tables.md ("LTC GGX tables").
 //
 // Frame: the shading normal is +z. An isotropic entry is fitted with omega_o in the xz-plane, x >= 0, so a polygon is
 // expressed in the frame (x, y, n) with x the direction of omega_o projected onto the surface (any tangent when
@@ -81,6 +82,97 @@ TY_FUNC SphericalPolygon ltcToIsotropicFrame(TY_IN(SphericalPolygon) p, TY_IN(ve
     for (int i = 0; i < p.count; ++i)
         r.v[i] = vec3(x.x * p.v[i].x + x.y * p.v[i].y, x.x * p.v[i].y - x.y * p.v[i].x, p.v[i].z);
     return r;
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Anisotropic table (002): nTheta x nPhi x nAlpha x nRatio entries, entry (it, ip, ia, ir) at index
+// ((ir * nAlpha + ia) * nPhi + ip) * nTheta + it, over theta_o and phi_o uniform over [0, pi / 2] (omega_o's angles in
+// the shading frame: x the tangent, along which the roughness is alphaX), alpha = max(alphaX, alphaY) uniform over
+// [alphaMin, 1] and r = min / max uniform over [ratioMin, 1] (002 Eq. 15; fitted with the smaller roughness
+// max(r alpha, alphaMin)). r below ratioMin is looked up as ratioMin (docs/tables.md: more anisotropic lobes are thin
+// arcs that no LTC follows). The symmetries recover everything else (002 Eq. 13-14): with S the swap of x and y and F
+// the flips of x and/or y, the lobe of (alphaX, alphaY, omega_o) is that of the canonical (alpha, r, F S omega_o) seen
+// through F S, where S applies when alphaY > alphaX and F makes F S omega_o's x and y non-negative; so the polygon's
+// integral is the canonical LTC's over F S P, and M^-1 of the lookup is M_c^-1 F S.
+
+TY_CONST float kLtcHalfPi = 1.57079632679489661923f;
+
+struct LtcQuadrilinear {
+    int base;         // the lower corner (it, ip, ia, ir)
+    int strideTheta;  // index steps to the upper corner in each dimension
+    int stridePhi;
+    int strideAlpha;
+    int strideRatio;
+    vec4 w;            // weights of the upper corners: theta, phi, alpha, ratio
+    mat3 toCanonical;  // F S: the polygon in the canonical frame is F S P
+};
+
+TY_FUNC float ltcGridCoordinate(float t, int n, TY_OUT(int) i) {
+    float x = clamp(t, 0.0f, 1.0f) * float(n - 1);
+    i = clamp(int(floor(x)), 0, n - 2);
+    return clamp(x - float(i), 0.0f, 1.0f);
+}
+
+// The 16 entries to blend for GGX (alphaX, alphaY) seen from wo (unit, shading frame, wo.z > 0 expected).
+TY_FUNC LtcQuadrilinear ltcFetchAnisotropic(float alphaX, float alphaY, TY_IN(vec3) wo, int nTheta, int nPhi,
+                                            int nAlpha, int nRatio, float alphaMin, float ratioMin) {
+    bool swapXY = alphaY > alphaX;
+    vec3 w = swapXY ? vec3(wo.y, wo.x, wo.z) : wo;
+    float fx = w.x < 0.0f ? -1.0f : 1.0f;
+    float fy = w.y < 0.0f ? -1.0f : 1.0f;
+    w = vec3(fx * w.x, fy * w.y, w.z);
+    float alpha = max(alphaX, alphaY);
+    float r = min(alphaX, alphaY) / alpha;
+    float theta = acos(clamp(w.z, 0.0f, 1.0f));
+    float phi = atan(w.y, max(w.x, 1e-30f));
+    int it, ip, ia, ir;
+    LtcQuadrilinear q;
+    q.w = vec4(ltcGridCoordinate(theta / kLtcHalfPi, nTheta, it), ltcGridCoordinate(phi / kLtcHalfPi, nPhi, ip),
+               ltcGridCoordinate((alpha - alphaMin) / (1.0f - alphaMin), nAlpha, ia),
+               ltcGridCoordinate((r - ratioMin) / (1.0f - ratioMin), nRatio, ir));
+    q.base = ((ir * nAlpha + ia) * nPhi + ip) * nTheta + it;
+    q.strideTheta = 1;
+    q.stridePhi = nTheta;
+    q.strideAlpha = nTheta * nPhi;
+    q.strideRatio = nTheta * nPhi * nAlpha;
+    // F S as a matrix (columns): S swaps the x and y columns of the identity, F negates rows.
+    vec3 cx = swapXY ? vec3(0.0f, 1.0f, 0.0f) : vec3(1.0f, 0.0f, 0.0f);
+    vec3 cy = swapXY ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
+    vec3 f = vec3(fx, fy, 1.0f);
+    q.toCanonical = mat3(f * cx, f * cy, vec3(0.0f, 0.0f, 1.0f));
+    return q;
+}
+
+// Corner k in [0, 16) of the fetch: bit 0 theta, bit 1 phi, bit 2 alpha, bit 3 ratio.
+TY_FUNC int ltcCornerIndex(TY_IN(LtcQuadrilinear) q, int k) {
+    return q.base + ((k & 1) != 0 ? q.strideTheta : 0) + ((k & 2) != 0 ? q.stridePhi : 0) +
+           ((k & 4) != 0 ? q.strideAlpha : 0) + ((k & 8) != 0 ? q.strideRatio : 0);
+}
+
+TY_FUNC float ltcCornerWeight(TY_IN(LtcQuadrilinear) q, int k) {
+    return ((k & 1) != 0 ? q.w.x : 1.0f - q.w.x) * ((k & 2) != 0 ? q.w.y : 1.0f - q.w.y) *
+           ((k & 4) != 0 ? q.w.z : 1.0f - q.w.z) * ((k & 8) != 0 ? q.w.w : 1.0f - q.w.w);
+}
+
+// acc + w e, every field (the quadrilinear blend is sum over corners of ltcCornerWeight times the corner's entry).
+TY_FUNC LtcEntry ltcAddWeighted(TY_IN(LtcEntry) acc, TY_IN(LtcEntry) e, float w) {
+    LtcEntry r = acc;
+    for (int i = 0; i < 9; ++i)
+        r.m[i] += w * e.m[i];
+    r.norm += w * e.norm;
+    r.fresnel += w * e.fresnel;
+    r.error += w * e.error;
+    return r;
+}
+
+TY_FUNC LtcEntry ltcZeroEntry() {
+    LtcEntry e;
+    for (int i = 0; i < 9; ++i)
+        e.m[i] = 0.0f;
+    e.norm = 0.0f;
+    e.fresnel = 0.0f;
+    e.error = 0.0f;
+    return e;
 }
 
 // ---------------------------------------------------------------------------------------------------------------------

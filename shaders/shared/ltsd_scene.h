@@ -2,7 +2,7 @@
 // renderer shared by its compute shader and its CPU path: unshadowed single scattering from polygonal area lights in
 // one homogeneous medium (KT, Shah, Narayanan 2025, ../shared/papers/000), the semi-analytic Eq. 15 with the analytic
 // in-scattered radiance of Eq. 14 and the analytic surface radiance of Eq. 12 (diffuse: the clamped cosine's exact
-// integral; isotropic GGX: the fitted LTC, shared/ltc.h). Derivations and what is approximated: docs/ltsd.md.
+// integral; GGX: the fitted LTCs of shared/ltc.h). Derivations and what is approximated: docs/ltsd.md.
 //
 // The includer defines the accessors after including this header (as for bvh.h):
 //   LtsdLight ltsdLight(int i);  vec4 ltsdPlane(int i);  SurfaceTriangle ltsdTriangle(int id);
@@ -13,7 +13,7 @@
 //   TY_LTSD_LIGHTS n         exactly n lights        TY_LTSD_PLANES n     exactly n medium planes (0: infinite)
 //   TY_LTSD_NO_MEDIUM        surfaces in vacuum      TY_LTSD_NO_SURFACES  no triangles
 //   TY_LTSD_ONE_SIDED        no light is two-sided   TY_LTSD_PLACEMENT k  TY_LTSD_TRANSMITTANCE k
-//   TY_LTSD_NO_GGX           no GGX material
+//   TY_LTSD_NO_GGX           no GGX material         TY_LTSD_NO_ANISOTROPIC  no anisotropic GGX material
 #ifndef TY_SHARED_LTSD_SCENE_H
 #define TY_SHARED_LTSD_SCENE_H
 
@@ -77,9 +77,18 @@ struct LtsdFrame {
     float phaseB;          // eddington: b
     float phaseIsotropic;  // the exact part (isotropic + linear mu) / (4 pi) of ltsdPhaseIntegral (docs/tables.md)
     float phaseLinear;
-    int ltcXCount;      // the isotropic LTC GGX table (ltsdLtcEntry): entries over sqrt(1 - cos theta_o)
+    int ltcXCount;      // the isotropic LTC GGX table (ltsdLtcEntry from 0): entries over sqrt(1 - cos theta_o)
     int ltcAlphaCount;  // entries over alpha
     float ltcAlphaMin;  // alpha's grid is uniform over [ltcAlphaMin, 1]
+    int ltcAnisoBase;   // the anisotropic table (ltsdLtcEntry from ltcAnisoBase): its first entry's index
+    int ltcAnisoThetaCount;  // entries over theta_o, phi_o, alpha and r (shared/ltc.h)
+    int ltcAnisoPhiCount;
+    int ltcAnisoAlphaCount;
+    int ltcAnisoRatioCount;
+    float ltcAnisoAlphaMin;
+    float ltcAnisoRatioMin;
+    float pad4;
+    float pad5;
 };
 
 // Supplied by the includer (see the top of the file).
@@ -355,6 +364,8 @@ TY_FUNC vec3 ltsdAirLight(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(vec3
 // light's polygon is integrated and the lobe. Diffuse: the shading frame and the exact clamped cosine (BRDF albedo /
 // pi, so int f cos = albedo E). Isotropic GGX: the LTC frame (omega_o in its xz-plane), M^-1 of the bilinearly fetched
 // table entry and Schlick's hemispherical moment F0 (norm - fresnel) + fresnel (docs/tables.md, "LTC GGX tables").
+// Anisotropic GGX: the shading frame (x the tangent), M^-1 of the quadrilinearly fetched canonical entry times F S,
+// the symmetries' map into its frame (002 Eq. 13-14).
 struct LtsdSurfaceLobe {
     vec3 x;  // the polygon's frame (x, y, n)
     vec3 y;
@@ -381,10 +392,28 @@ TY_FUNC LtsdSurfaceLobe ltsdSurfaceLobe(TY_IN(LtsdFrame) f, TY_IN(MaterialParams
         float l = length(tangent);
         if (l > 1e-6f) lobe.x = tangent / l;
         lobe.y = cross(frame.n, lobe.x);
-        LtcBilinear b = ltcFetchIsotropic(material.alphaX, cosTheta, f.ltcXCount, f.ltcAlphaCount, f.ltcAlphaMin);
-        LtcEntry e = ltcBilinearBlend(ltsdLtcEntry(b.i00), ltsdLtcEntry(b.i10), ltsdLtcEntry(b.i01),
-                                      ltsdLtcEntry(b.i11), b);
-        lobe.mInv = ltsdInverse(ltcMatrix(e));
+        LtcEntry e;
+#ifndef TY_LTSD_NO_ANISOTROPIC
+        if (material.alphaX != material.alphaY) {
+            lobe.x = frame.t;
+            lobe.y = frame.b;
+            LtcQuadrilinear q =
+                ltcFetchAnisotropic(material.alphaX, material.alphaY, surfaceToLocal(frame, wo), f.ltcAnisoThetaCount,
+                                    f.ltcAnisoPhiCount, f.ltcAnisoAlphaCount, f.ltcAnisoRatioCount,
+                                    f.ltcAnisoAlphaMin, f.ltcAnisoRatioMin);
+            e = ltcZeroEntry();
+            for (int k = 0; k < 16; ++k)
+                e = ltcAddWeighted(e, ltsdLtcEntry(f.ltcAnisoBase + ltcCornerIndex(q, k)), ltcCornerWeight(q, k));
+            lobe.mInv = ltsdInverse(ltcMatrix(e)) * q.toCanonical;
+        } else
+#endif
+        {
+            LtcBilinear b =
+                ltcFetchIsotropic(material.alphaX, cosTheta, f.ltcXCount, f.ltcAlphaCount, f.ltcAlphaMin);
+            e = ltcBilinearBlend(ltsdLtcEntry(b.i00), ltsdLtcEntry(b.i10), ltsdLtcEntry(b.i01), ltsdLtcEntry(b.i11),
+                                 b);
+            lobe.mInv = ltsdInverse(ltcMatrix(e));
+        }
         lobe.weight = cosTheta > 0.0f ? ltcFresnelNorm(e, material.f0) : vec3(0.0f);
     }
 #endif

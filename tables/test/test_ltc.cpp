@@ -34,6 +34,12 @@ const LtcTable& shipped() {
     return table;
 }
 
+const LtcTable& shippedAnisotropic() {
+    static const LtcTable table =
+        loadLtcTable((std::filesystem::path(TYNDALL_SHIPPED_LTC_TABLE).parent_path() / "ggx-aniso.ltc").string());
+    return table;
+}
+
 dvec3 viewAt(double cosTheta, double phi) {
     return test::unitFromAngles(cosTheta, phi);
 }
@@ -87,7 +93,7 @@ TEST(LtcTable, StoredMomentsMatchQuadrature) {
 // The exact int_P f cos over the part of P above the horizon by adaptive quadrature (F = 1). The fan of the quadrature
 // is centred on the lobe's peak (the mirror direction) when the peak lies inside the clipped polygon, so that a sharp
 // peak sits at the fan's apex, where adaptive bisection resolves it, rather than between nodes.
-double ggxOverPolygon(const dvec3& wo, double alpha, const std::vector<dvec3>& vertices) {
+double ggxOverPolygon(const dvec3& wo, double alphaX, double alphaY, const std::vector<dvec3>& vertices) {
     const std::vector<dvec3> half = test::clipToHemisphere(vertices, 1.0);
     if (half.empty()) return 0.0;
     const dvec3 mirror(-wo.x, -wo.y, wo.z);
@@ -101,7 +107,11 @@ double ggxOverPolygon(const dvec3& wo, double alpha, const std::vector<dvec3>& v
         inside = inside && side * orientation > 0.0;
     }
     return test::integrateOverPolygon(
-        inside ? mirror : mean, half, [&](const dvec3& w) { return ggxCosineLobe(wo, w, alpha, alpha); }, 1e-9, 1e-8);
+        inside ? mirror : mean, half, [&](const dvec3& w) { return ggxCosineLobe(wo, w, alphaX, alphaY); }, 1e-9, 1e-8);
+}
+
+double ggxOverPolygon(const dvec3& wo, double alpha, const std::vector<dvec3>& vertices) {
+    return ggxOverPolygon(wo, alpha, alpha, vertices);
 }
 
 // Polygons around GGX's peak for the view wo: tiny to large, centred on the mirror direction or beside it (the
@@ -140,7 +150,7 @@ PolygonErrors polygonErrors(const LtcTable& t, double alpha) {
             all.push_back(p);
         for (const test::TestPolygon& p : all) {
             const double exact = ggxOverPolygon(wo, alpha, p.vertices);
-            const double ltc = t.integral(test::toShaderPolygon(p), wo, alpha, dvec3(1.0)).x;
+            const double ltc = t.integral(test::toShaderPolygon(p), wo, alpha, alpha, dvec3(1.0)).x;
             const double err = std::abs(ltc - exact);
             e.maxAbs = std::max(e.maxAbs, err);
             e.meanAbs += err;
@@ -198,7 +208,7 @@ TEST(LtcTable, GridEntriesRespectTheirTotalVariationBound) {
                 all.push_back(p);
             for (const test::TestPolygon& p : all) {
                 const double exact = ggxOverPolygon(wo, alpha, p.vertices);
-                const double ltc = t.integral(test::toShaderPolygon(p), wo, alpha, dvec3(1.0)).x;
+                const double ltc = t.integral(test::toShaderPolygon(p), wo, alpha, alpha, dvec3(1.0)).x;
                 EXPECT_LE(std::abs(ltc - exact), 1.01 * e.norm * e.error / 2.0 + 1e-5)
                     << "alpha " << alpha << ", cos theta " << c << ", " << p.kind;
             }
@@ -238,6 +248,165 @@ TEST(LtcTable, StoredMatricesAreAligned) {
         for (int c = 0; c < 3; ++c)
             for (int r = 0; r < 3; ++r)
                 EXPECT_NEAR(aligned[c][r], m[c][r], 1e-3 * scale) << i;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// The anisotropic table (tables/ggx-aniso.ltc, 002)
+
+// Its polygon integrals against quadrature for anisotropic roughness pairs (either way round) and one isotropic pair,
+// over the same polygons and views as the isotropic test but at several azimuths per view (the lobe is no longer
+// symmetric about omega_o's plane), bounded at what the fit achieves plus 5 % (measured 2026-12-03, docs/tables.md).
+TEST(LtcAnisotropicTable, IntegralMatchesQuadratureOverRandomPolygons) {
+    struct Bound {
+        double alphaX, alphaY, maxAbs, meanAbs;
+    };
+    const Bound bounds[] = {
+        {0.3, 0.3, 6.874e-02, 4.094e-03},   {0.1, 0.4, 1.227e-01, 5.180e-03}, {0.5, 0.12, 8.906e-02, 5.074e-03},
+        {0.25, 0.05, 2.096e-01, 6.348e-03}, {0.8, 0.3, 3.933e-02, 2.651e-03},
+    };
+    const LtcTable& t = shippedAnisotropic();
+    static const std::vector<test::TestPolygon> polygons = test::randomTestPolygons(2026u, 4);
+    const double cosines[] = {1.0, std::cos(kPi / 6.0), 0.5, std::cos(75.0 * kPi / 180.0),
+                              std::cos(85.0 * kPi / 180.0)};
+    std::printf("%6s %6s %12s %12s %12s %12s   (F0 = 1; relative over polygons with exact > 1e-3)\n", "alphaX",
+                "alphaY", "maxAbs", "meanAbs", "maxRel", "meanRel");
+    for (const Bound& b : bounds) {
+        PolygonErrors e;
+        int count = 0, relCount = 0;
+        std::mt19937 rng(23);
+        for (size_t v = 0; v < std::size(cosines); ++v)
+            for (double phi : {0.4, 1.3, 2.6, 4.4}) {
+                const dvec3 wo = viewAt(cosines[v], phi + 0.1 * double(v));
+                std::vector<test::TestPolygon> all = polygons;
+                for (const test::TestPolygon& p : peakPolygons(wo, std::min(b.alphaX, b.alphaY), rng))
+                    all.push_back(p);
+                for (const test::TestPolygon& p : all) {
+                    const double exact = ggxOverPolygon(wo, b.alphaX, b.alphaY, p.vertices);
+                    const double ltc = t.integral(test::toShaderPolygon(p), wo, b.alphaX, b.alphaY, dvec3(1.0)).x;
+                    const double err = std::abs(ltc - exact);
+                    e.maxAbs = std::max(e.maxAbs, err);
+                    e.meanAbs += err;
+                    ++count;
+                    if (exact > 1e-3) {
+                        e.maxRel = std::max(e.maxRel, err / exact);
+                        e.meanRel += err / exact;
+                        ++relCount;
+                    }
+                }
+            }
+        e.meanAbs /= count;
+        e.meanRel /= std::max(relCount, 1);
+        std::printf("%6.3f %6.3f %12.3e %12.3e %12.3e %12.3e\n", b.alphaX, b.alphaY, e.maxAbs, e.meanAbs, e.maxRel,
+                    e.meanRel);
+        EXPECT_LE(e.maxAbs, 1.05 * b.maxAbs) << b.alphaX << ", " << b.alphaY;
+        EXPECT_LE(e.meanAbs, 1.05 * b.meanAbs) << b.alphaX << ", " << b.alphaY;
+    }
+}
+
+// The stored entries hold the symmetries of 002 (Eq. 16) exactly: at phi = 0 the lobe is symmetric about the xz-plane
+// (M's (0, 1), (1, 0), (1, 2), (2, 1) are zero), at phi = pi / 2 about the yz-plane ((0, 1), (1, 0), (0, 2), (2, 0)),
+// and at theta = 0 about both (M diagonal), the same entry for every phi. At r = 1 (isotropic GGX) the entries are the
+// phi = 0 entry rotated, so that swapping x and y maps phi to pi / 2 - phi (Eq. 14) to float rounding.
+TEST(LtcAnisotropicTable, StoredEntriesHoldTheSymmetries) {
+    const LtcTable& t = shippedAnisotropic();
+    ASSERT_FALSE(t.isotropicTable());
+    const int nt = t.thetaCount(), np = t.phiCount(), na = t.alphaCount(), nr = t.ratioCount();
+    const auto index = [&](int it, int ip, int ia, int ir) { return ((ir * na + ia) * np + ip) * nt + it; };
+    for (int ir = 0; ir < nr; ++ir)
+        for (int ia = 0; ia < na; ++ia) {
+            for (int it = 0; it < nt; ++it) {
+                const sh::LtcEntry& a = t.entries[size_t(index(it, 0, ia, ir))];
+                EXPECT_TRUE(a.m[1] == 0.0f && a.m[3] == 0.0f && a.m[5] == 0.0f && a.m[7] == 0.0f) << it << ia << ir;
+                const sh::LtcEntry& b = t.entries[size_t(index(it, np - 1, ia, ir))];
+                EXPECT_TRUE(b.m[1] == 0.0f && b.m[3] == 0.0f && b.m[2] == 0.0f && b.m[6] == 0.0f) << it << ia << ir;
+            }
+            const sh::LtcEntry& d = t.entries[size_t(index(0, 0, ia, ir))];
+            for (int k : {1, 2, 3, 5, 6, 7})
+                EXPECT_EQ(d.m[k], 0.0f) << ia << ir;
+            for (int ip = 1; ip < np; ++ip)
+                EXPECT_EQ(std::memcmp(&d, &t.entries[size_t(index(0, ip, ia, ir))], sizeof d), 0) << ip << ia << ir;
+        }
+    // r = 1: S M(phi) S = M(pi / 2 - phi).
+    const int swap[9] = {4, 3, 5, 1, 0, 2, 7, 6, 8};  // (S M S)[c][r] = M[s(c)][s(r)], column-major
+    for (int ia = 0; ia < na; ++ia)
+        for (int it = 0; it < nt; ++it)
+            for (int ip = 0; ip < np; ++ip) {
+                const sh::LtcEntry& a = t.entries[size_t(index(it, ip, ia, nr - 1))];
+                const sh::LtcEntry& b = t.entries[size_t(index(it, np - 1 - ip, ia, nr - 1))];
+                for (int k = 0; k < 9; ++k)
+                    EXPECT_NEAR(a.m[k], b.m[swap[k]], 2e-6) << it << ip << ia;
+                EXPECT_EQ(a.norm, b.norm);
+            }
+}
+
+// The run-time symmetries are exact: mirroring the view and the polygon in x or y, or swapping x and y together with
+// the roughnesses, gives the same value bit for bit (the fetch maps all of them to the same canonical lookup).
+TEST(LtcAnisotropicTable, RunTimeSymmetriesAreExact) {
+    const LtcTable& t = shippedAnisotropic();
+    const std::vector<test::TestPolygon> polygons = test::randomTestPolygons(31u, 2);
+    const auto mapped = [](const test::TestPolygon& p, const glm::dmat3& m) {
+        test::TestPolygon q = p;
+        for (dvec3& v : q.vertices)
+            v = m * v;
+        return q;
+    };
+    const glm::dmat3 flipX(dvec3(-1, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1));
+    const glm::dmat3 flipY(dvec3(1, 0, 0), dvec3(0, -1, 0), dvec3(0, 0, 1));
+    const glm::dmat3 swapXY(dvec3(0, 1, 0), dvec3(1, 0, 0), dvec3(0, 0, 1));
+    int compared = 0;
+    for (const test::TestPolygon& p : polygons)
+        for (double phi : {0.3, 1.9, 3.5, 5.2}) {
+            const dvec3 wo = viewAt(0.6, phi);
+            const double value = t.integral(test::toShaderPolygon(p), wo, 0.35, 0.1, dvec3(1.0)).x;
+            for (const glm::dmat3& f : {flipX, flipY})
+                EXPECT_EQ(t.integral(test::toShaderPolygon(mapped(p, f)), f * wo, 0.35, 0.1, dvec3(1.0)).x, value);
+            EXPECT_EQ(t.integral(test::toShaderPolygon(mapped(p, swapXY)), swapXY * wo, 0.1, 0.35, dvec3(1.0)).x,
+                      value);
+            compared += value > 0.0;
+        }
+    EXPECT_GT(compared, 20);
+}
+
+// At alphaX = alphaY the anisotropic table approximates the same lobe as the isotropic one, on a coarser grid: over the
+// random polygons and views the two agree to within their errors against quadrature (measured worst 9.8e-3, mean
+// 2.3e-4; bounds 1.3 x).
+TEST(LtcAnisotropicTable, AgreesWithTheIsotropicTableAtEqualRoughness) {
+    const std::vector<test::TestPolygon> polygons = test::randomTestPolygons(2026u, 4);
+    double worst = 0.0, mean = 0.0;
+    int count = 0;
+    for (double alpha : {0.2, 0.5, 0.9})
+        for (double c : {1.0, 0.8, 0.4})
+            for (const test::TestPolygon& p : polygons) {
+                const dvec3 wo = viewAt(c, 0.9);
+                const double iso = shipped().integral(test::toShaderPolygon(p), wo, alpha, alpha, dvec3(1.0)).x;
+                const double aniso =
+                    shippedAnisotropic().integral(test::toShaderPolygon(p), wo, alpha, alpha, dvec3(1.0)).x;
+                worst = std::max(worst, std::abs(iso - aniso));
+                mean += std::abs(iso - aniso);
+                ++count;
+            }
+    mean /= count;
+    std::printf("isotropic against anisotropic table at alphaX = alphaY: worst %.3e, mean %.3e\n", worst, mean);
+    EXPECT_LT(worst, 1.3e-2);
+    EXPECT_LT(mean, 3.0e-4);
+}
+
+// Entries re-fitted from their shipped predecessors reproduce the shipped ones bit for bit: every kind (theta = 0,
+// phi = 0, general, phi = pi / 2, the rotated r = 1 entries).
+TEST(LtcAnisotropicTable, RefitReproducesShippedEntries) {
+    const LtcTable& t = shippedAnisotropic();
+    tables::LtcFitSettings settings;
+    tables::ltcSettingsFromJson(t.provenance["settings"], settings);
+    ASSERT_TRUE(settings.anisotropic);
+    ASSERT_EQ(tables::ltcEntryCount(settings), int(t.entries.size()));
+    const auto stored = [&](int i) -> const sh::LtcEntry& { return t.entries[size_t(i)]; };
+    const int nt = t.thetaCount(), np = t.phiCount(), na = t.alphaCount(), nr = t.ratioCount();
+    const auto index = [&](int it, int ip, int ia, int ir) { return ((ir * na + ia) * np + ip) * nt + it; };
+    for (int i : {index(0, 0, 3, 2), index(0, 4, 3, 2), index(5, 0, 6, 4), index(3, 4, 2, 5), index(6, np - 1, 5, 1),
+                  index(4, 3, 5, nr - 1)}) {
+        const sh::LtcEntry e = tables::fitLtcAnisotropicEntry(i, settings, stored);
+        EXPECT_EQ(std::memcmp(&e, &t.entries[size_t(i)], sizeof e), 0) << "entry " << i;
     }
 }
 
