@@ -24,7 +24,10 @@ RenderJob frameJob(int nodes, int lights, const std::string& device, const std::
                                           "views[ltsd].parameters.device=" + device,
                                           "views[ltsd].parameters.nodes=" + std::to_string(nodes),
                                           "views[ltsd].parameters.transmittance=" + transmittance};
-    if (lights == 1) overrides.push_back("views[ltsd].lights=[\"ceiling panel\"]");
+    if (lights == 1) {
+        overrides.push_back("views[ltsd].lights=[\"ceiling panel\"]");
+        overrides.push_back("views[ltsd].media=[\"fog\"]");
+    }
     if (lights == 4) {
         overrides.push_back(R"(lights[+]={"name": "panel 3", "type": "area", "radiance": [5, 5, 5],
             "vertices": [[0.6, 2.9, -1.3], [1.2, 2.9, -1.3], [1.2, 2.9, -0.7], [0.6, 2.9, -0.7]]})");
