@@ -5,6 +5,9 @@
 //   the pipeline and is not timed. Target (issue 18) on lavapipe: N = 8, one light, >= 20 frames/s (<= 50 ms).
 // - BM_LtsdCpu/N/lights: wall time of the CPU path (every core).
 // - BM_LtsdGpuTransmittancePolygon/N: one light with the polygon-averaged transmittance instead of Eq. 10.
+// - BM_LtsdGpuRatio1/denoised: N = 8, one light, one ratio sample per pixel for the shadows (GPU time; the denoiser
+//   runs on the CPU and is not in it).
+// Every case but BM_LtsdGpuRatio1 is unshadowed (shadows = off).
 #include "tyndall/project.h"
 #include "tyndall/render.h"
 
@@ -19,9 +22,12 @@ namespace {
 
 const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/ltsd-room.json";
 
-RenderJob frameJob(int nodes, int lights, const std::string& device, const std::string& transmittance = "min-distance") {
+RenderJob frameJob(int nodes, int lights, const std::string& device, const std::string& transmittance = "min-distance",
+                   const std::string& shadows = "off") {
     std::vector<std::string> overrides = {"camera.width=512", "camera.height=512",
                                           "views[ltsd].parameters.device=" + device,
+                                          "views[ltsd].parameters.shadows=" + shadows,
+                                          "views[ltsd].parameters.ratioSamples=1",
                                           "views[ltsd].parameters.nodes=" + std::to_string(nodes),
                                           "views[ltsd].parameters.transmittance=" + transmittance};
     if (lights == 1) {
@@ -64,6 +70,17 @@ void BM_LtsdGpuTransmittancePolygon(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_LtsdGpuTransmittancePolygon)->Arg(8)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
+
+// One ratio sample per pixel (Sec. 6), raw and denoised, N = 8, one light: the shadowed frame's cost.
+void BM_LtsdGpuRatio1(benchmark::State& state) {
+    RenderJob job = frameJob(8, 1, "gpu", "min-distance", state.range(0) != 0 ? "ratio-denoised" : "ratio");
+    runJob(job);
+    for (auto _ : state) {
+        const RenderResult r = runJob(job);
+        state.SetIterationTime(std::stod(r.image.metadata.at("gpu:totalMs")) * 1e-3);
+    }
+}
+BENCHMARK(BM_LtsdGpuRatio1)->Arg(0)->Arg(1)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
 
 void BM_LtsdCpu(benchmark::State& state) {
     RenderJob job = frameJob(int(state.range(0)), int(state.range(1)), "cpu");
