@@ -1,4 +1,5 @@
 #include "fit.h"
+#include "minimise.h"
 
 #include "tyndall/error.h"
 
@@ -13,39 +14,12 @@ namespace tyndall::tables {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kGoldenFraction = 0.61803398874989484820;  // (sqrt 5 - 1) / 2
 
 // HG's CDF in mu from -1, F(mu) = (1 - g^2) / (2g) [(1 + g^2 - 2g mu)^(-1/2) - 1 / (1 + g)], inverted.
 double hgInverseCdf(double g, double F) {
     if (std::abs(g) < 1e-6) return 2.0 * F - 1.0;
     const double q = 2.0 * g * F / (1.0 - g * g) + 1.0 / (1.0 + g);
     return std::clamp((1.0 + g * g - 1.0 / (q * q)) / (2.0 * g), -1.0, 1.0);
-}
-
-// Minimises f over y in [lo, hi]: a scan with the given step, then golden-section search around the best point.
-template <typename F>
-double minimise(const F& f, double lo, double hi, double step) {
-    double best = lo, bestValue = f(lo);
-    for (double y = lo + step; y <= hi + 1e-12; y += step) {
-        const double v = f(y);
-        if (v < bestValue) best = y, bestValue = v;
-    }
-    double a = best - step, b = best + step;
-    double c = b - kGoldenFraction * (b - a), d = a + kGoldenFraction * (b - a);
-    double fc = f(c), fd = f(d);
-    for (int i = 0; i < 60; ++i) {
-        if (fc < fd) {
-            b = d, d = c, fd = fc;
-            c = b - kGoldenFraction * (b - a);
-            fc = f(c);
-        } else {
-            a = c, c = d, fc = fd;
-            d = a + kGoldenFraction * (b - a);
-            fd = f(d);
-        }
-    }
-    const double y = 0.5 * (a + b);
-    return f(y) <= bestValue ? y : best;
 }
 
 // The sliced Wasserstein loss of 002 (Sec. 4, Eq. 10) between the target's samples and the transformed source's, on
@@ -133,12 +107,12 @@ struct ScaleFit {
 ScaleFit fitLobeScale(const std::string& type, int side, int source, const FitSettings& settings) {
     if (settings.loss == "tv") {
         const auto f = [&](double y) { return ltsdLobeTotalVariation(type, 0.0, side, source, std::exp(y)); };
-        const double y = minimise(f, -12.0, 6.0, 0.05);
+        const double y = minimise1D(f, -12.0, 6.0, 0.05);
         return {std::exp(y), f(y)};
     }
     if (settings.loss == "sw") {
         const SlicedWasserstein f([&](int j, int n) { return lobeHemisphereZ(type, side, j, n); }, source, settings);
-        const double y = minimise(f, -12.0, 6.0, 0.25);
+        const double y = minimise1D(f, -12.0, 6.0, 0.25);
         return {std::exp(y), f(y)};
     }
     throw InputError(InputLocation{"", 0, 0, "--loss"}, "'" + settings.loss + "' is not a loss: tv or sw");
@@ -155,12 +129,12 @@ nlohmann::json settingsToJson(const FitSettings& s) {
 double fitEntryScale(double g, int source, const FitSettings& settings) {
     // y = ln m over [-12, 6]: m from 6e-6 (a lobe far sharper than HG at |g| = 0.99) to 400 (flatter than isotropic).
     if (settings.loss == "tv")
-        return std::exp(minimise([&](double y) { return ltsdTotalVariation(g, source, std::exp(y)); }, -12.0, 6.0,
+        return std::exp(minimise1D([&](double y) { return ltsdTotalVariation(g, source, std::exp(y)); }, -12.0, 6.0,
                                  0.05));
     if (settings.loss == "sw") {
         const double aU = hgUpperAmplitude(g);
         const auto targetZ = [&](int j, int n) { return -hgInverseCdf(g, aU * (j + 0.5) / n); };
-        return std::exp(minimise(SlicedWasserstein(targetZ, source, settings), -12.0, 6.0, 0.25));
+        return std::exp(minimise1D(SlicedWasserstein(targetZ, source, settings), -12.0, 6.0, 0.25));
     }
     throw InputError(InputLocation{"", 0, 0, "--loss"}, "'" + settings.loss + "' is not a loss: tv or sw");
 }

@@ -1,4 +1,5 @@
 #include "ltc_fit.h"
+#include "minimise.h"
 
 #include "tyndall/error.h"
 
@@ -14,7 +15,6 @@ namespace tyndall::tables {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kGoldenFraction = 0.61803398874989484820;  // (sqrt 5 - 1) / 2
 
 // Point j of n of the golden-ratio lattice on [0, 1)^2 (a Fibonacci-like rank-1 lattice for any n).
 glm::dvec2 lattice(int j, int n) {
@@ -127,32 +127,6 @@ std::vector<double> nelderMead(const F& f, std::vector<double> x0, const std::ve
     const size_t lo = size_t(std::min_element(v.begin(), v.end()) - v.begin());
     best = v[lo];
     return x[lo];
-}
-
-// Minimises f over y in [lo, hi]: a scan with the given step, then golden-section search around the best point.
-template <typename F>
-double minimise1D(const F& f, double lo, double hi, double step) {
-    double best = lo, bestValue = f(lo);
-    for (double y = lo + step; y <= hi + 1e-12; y += step) {
-        const double v = f(y);
-        if (v < bestValue) best = y, bestValue = v;
-    }
-    double a = best - step, b = best + step;
-    double c = b - kGoldenFraction * (b - a), d = a + kGoldenFraction * (b - a);
-    double fc = f(c), fd = f(d);
-    for (int i = 0; i < 60; ++i) {
-        if (fc < fd) {
-            b = d, d = c, fd = fc;
-            c = b - kGoldenFraction * (b - a);
-            fc = f(c);
-        } else {
-            a = c, c = d, fc = fd;
-            d = a + kGoldenFraction * (b - a);
-            fd = f(d);
-        }
-    }
-    const double y = 0.5 * (a + b);
-    return f(y) <= bestValue ? y : best;
 }
 
 glm::dmat3 entryMatrix(const shader::LtcEntry& e) {

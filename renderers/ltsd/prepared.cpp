@@ -1,6 +1,6 @@
 #include "ltsd/prepared.h"
 
-#include "src/shader_params.h"
+#include "tyndall/shader_params.h"
 
 #include "tyndall/error.h"
 #include "tyndall/geometry.h"

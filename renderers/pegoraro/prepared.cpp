@@ -2,7 +2,7 @@
 
 #include "pegoraro/pegoraro.h"
 #include "src/gpu_surfaces.h"
-#include "src/shader_params.h"
+#include "tyndall/shader_params.h"
 
 #include "shared/rng.h"
 

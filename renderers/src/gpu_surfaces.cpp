@@ -1,6 +1,6 @@
 #include "src/gpu_surfaces.h"
 
-#include "src/shader_params.h"
+#include "tyndall/shader_params.h"
 
 #include "shared/bvh.h"
 #include "shared/surface.h"

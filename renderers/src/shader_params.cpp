@@ -1,4 +1,4 @@
-#include "src/shader_params.h"
+#include "tyndall/shader_params.h"
 
 #include "tyndall/error.h"
 #include "tyndall/phase_eval.h"

@@ -4,7 +4,7 @@
 // within a batch are stratified and not independent.
 #include "reference/integrator.h"
 #include "reference/reference.h"
-#include "src/shader_params.h"
+#include "tyndall/shader_params.h"
 
 #include "tyndall/error.h"
 #include "tyndall/geometry.h"

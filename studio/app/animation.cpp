@@ -1,6 +1,7 @@
 #include "animation.h"
 
 #include "shared/camera.h"
+#include "tyndall/shader_params.h"
 
 #include <nlohmann/json.hpp>
 
@@ -11,22 +12,6 @@
 namespace tyndall::studio {
 
 namespace {
-
-// The camera of shaders/shared/camera.h for `camera` (as the renderers build it).
-shader::CameraParams cameraParams(const Camera& camera) {
-    const Vec3 forward = glm::normalize(camera.target - camera.position);
-    const Vec3 right = glm::normalize(glm::cross(forward, camera.up));
-    shader::CameraParams c{};
-    c.position = glm::vec3(camera.position);
-    c.forward = glm::vec3(forward);
-    c.right = glm::vec3(right);
-    c.up = glm::vec3(glm::cross(right, forward));
-    c.tanHalfFovY = float(std::tan(glm::radians(camera.fovY) * 0.5));
-    c.aspect = float(camera.width) / float(camera.height);
-    c.width = float(camera.width);
-    c.height = float(camera.height);
-    return c;
-}
 
 nlohmann::json vec3Json(const Vec3& v) {
     return nlohmann::json::array({v.x, v.y, v.z});
@@ -39,7 +24,7 @@ std::optional<Vec3> impulsePoint(const Camera& camera, const std::vector<Particl
     if (hit) *hit = false;
     if (particles.empty()) return std::nullopt;
     glm::vec3 o, d;
-    shader::cameraRay(cameraParams(camera), float(px), float(py), o, d);
+    shader::cameraRay(toCameraParams(camera), float(px), float(py), o, d);
     const Vec3 origin = camera.position, dir = glm::normalize(Vec3(d));
     // The nearest particle the ray passes within its scale of (its tetrahedron's circumsphere), in front of the camera.
     double nearest = std::numeric_limits<double>::infinity();

@@ -13,6 +13,7 @@
 #include "tyndall/metrics.h"
 #include "tyndall/project.h"
 #include "tyndall/render.h"
+#include "tyndall/shader_params.h"
 
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
@@ -68,18 +69,7 @@ shader::CameraParams cameraLookingAt(const glm::vec3& position, const glm::vec3&
     c.fovY = 40.0;
     c.width = w;
     c.height = h;
-    shader::CameraParams p{};
-    const glm::vec3 forward = glm::normalize(target - position);
-    const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0, 1, 0)));
-    p.position = position;
-    p.forward = forward;
-    p.right = right;
-    p.up = glm::cross(right, forward);
-    p.tanHalfFovY = float(std::tan(20.0 * M_PI / 180.0));
-    p.aspect = float(w) / float(h);
-    p.width = float(w);
-    p.height = float(h);
-    return p;
+    return toCameraParams(c);
 }
 
 // Pixel coordinates of x for the camera (the projection compositeCpu and the geometry shader use).
@@ -205,7 +195,6 @@ TEST(IsvShade, IntegrationModesAgainstQuadratureOfEq7) {
     std::mt19937 rng(5);
     Particle particle = particleAt(Vec3(0.1, 1.0, -0.2), 0.6, rng, 6.0);
     const IsvParticle p = toIsv(particle, 1.0);
-    shader::isvErf(0.0f);
     MapScope maps(&gradientVsm, &noShadow);
     const glm::vec3 o(-2.0f, 1.3f, 2.5f);
     struct Row {

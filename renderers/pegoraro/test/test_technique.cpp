@@ -6,7 +6,7 @@
 
 #include "pegoraro/pegoraro.h"
 #include "pegoraro/prepared.h"
-#include "src/shader_params.h"
+#include "tyndall/shader_params.h"
 
 #include "tyndall/error.h"
 #include "tyndall/gpu/context.h"
