@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <numbers>
 
@@ -424,7 +425,7 @@ TEST(Cli, SetAppendsAnArrayElement) {
     }
 }
 
-// `tyndall tables` prints the shipped HG table's provenance; `tables eval` prints the LTSD value of a polygon's
+// `tyndall tables` prints every shipped table's layout and provenance (LTSD and LTC), a named table in detail; `tables eval` prints the LTSD value of a polygon's
 // integral next to the exact one (a polygon around -z, HG's forward peak for g = 0.5: within the shipped fit's error,
 // docs/tables.md), and bad phase functions, polygons and table folders are refused with exit code 2 and a reason.
 TEST(Cli, TablesPrintsProvenanceAndEvaluatesAPolygon) {
@@ -432,6 +433,29 @@ TEST(Cli, TablesPrintsProvenanceAndEvaluatesAPolygon) {
     ASSERT_EQ(info.exitCode, 0) << info.output;
     EXPECT_NE(info.output.find("2 x 128 entries"), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("\"loss\":\"sw\""), std::string::npos) << info.output;
+    for (const char* expected : {"LTSD table of rayleigh", "LTSD table of murky-mie", "isotropic, 64 x 64 entries",
+                                 "anisotropic, 8 x 8 x 8 x 8 entries", "fitted:   ", "total variation per entry"})
+        EXPECT_NE(info.output.find(expected), std::string::npos) << expected << "\n" << info.output;
+    CliRun ggx = tyndall("tables ggx-aniso --tables '" + source("tables") + "'");
+    ASSERT_EQ(ggx.exitCode, 0) << ggx.output;
+    EXPECT_EQ(ggx.output.find("LTSD table"), std::string::npos) << ggx.output;  // only the named table
+    EXPECT_NE(ggx.output.find("ratio"), std::string::npos) << ggx.output;       // its error against alpha and ratio
+    CliRun json = tyndall("tables --json hg ggx --tables '" + source("tables") + "'");
+    ASSERT_EQ(json.exitCode, 0) << json.output;
+    const nlohmann::json described = nlohmann::json::parse(json.output);
+    ASSERT_EQ(described.size(), 2u);
+    EXPECT_EQ(described[0]["kind"], "ltsd");
+    EXPECT_EQ(described[1]["kind"], "ltc");
+    EXPECT_EQ(described[1]["sizes"], nlohmann::json({64, 64}));
+    EXPECT_TRUE(described[1]["provenance"].contains("errorSummary"));
+    // A truncated table beside a good one fails the command, naming the file.
+    const fs::path corrupt = scratch("corrupt-tables");
+    fs::copy_file(source("tables") + "/ggx.ltc", corrupt / "ggx.ltc");
+    {
+        std::ifstream in(source("tables") + "/hg.ltsd", std::ios::binary);
+        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::ofstream(corrupt / "hg.ltsd", std::ios::binary) << bytes.substr(0, 100);
+    }
 
     const std::string polygon = "'[[0.3,0.2,-1],[-0.3,0.25,-1],[-0.2,-0.3,-1],[0.25,-0.2,-1]]'";
     CliRun eval = tyndall("tables eval --phase '{\"type\":\"hg\",\"g\":0.5}' --polygon " + polygon);
@@ -454,7 +478,10 @@ TEST(Cli, TablesPrintsProvenanceAndEvaluatesAPolygon) {
         {"tables eval --phase '{\"type\":\"hg\"}' --polygon '[[0,0,1],[1,0,0]]'", "3 to 9 directions"},
         {"tables eval --phase '{\"type\":\"hg\"}' --polygon '[[1,0,0],[0,1,0],[-1,0,0],[0,-1,0.5],[0,0,-1]]'",
          "convex"},
-        {"tables --tables '" + scratch("no-tables").string() + "'", "no-tables/hg.ltsd: cannot open"},
+        {"tables --tables '" + scratch("no-tables").string() + "'", "no-tables: --tables: holds no tables"},
+        {"tables --tables '" + (scratch("no-tables") / "absent").string() + "'", "absent: --tables: is not a folder"},
+        {"tables nope --tables '" + source("tables") + "'", "no table named 'nope'"},
+        {"tables --tables '" + corrupt.string() + "'", "hg.ltsd: payload: truncated"},
     };
     for (const Case& c : cases) {
         CliRun r = tyndall(c.args);

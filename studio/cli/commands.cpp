@@ -29,9 +29,9 @@ namespace {
 std::atomic<bool> gCancel{false};
 void onInterrupt(int) { gCancel.store(true); }
 
-// Runs `body`, mapping errors to exit codes and messages on stderr.
-template <typename Body>
-int guarded(Body&& body) {
+}  // namespace
+
+int guarded(const std::function<int()>& body) {
     try {
         return body();
     } catch (const InputError& e) {
@@ -51,6 +51,8 @@ int guarded(Body&& body) {
         return kFailure;
     }
 }
+
+namespace {
 
 std::string extensionOf(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();

@@ -1,6 +1,7 @@
 // The subcommands of the `tyndall` CLI. Each returns the process exit code: 0 ok, 1 failure, 2 bad input.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -8,6 +9,10 @@
 namespace tyndall::cli {
 
 enum ExitCode { kOk = 0, kFailure = 1, kBadInput = 2 };
+
+// Runs a subcommand's body and maps what it throws to an exit code and a message on stderr: InputError 2, an
+// environment failure (OutputError, out of memory, cancellation) and anything else 1.
+int guarded(const std::function<int()>& body);
 
 struct RenderArgs {
     std::string project;
@@ -63,6 +68,7 @@ int info(const InfoArgs& args);
 
 struct TablesArgs {
     std::string tables;  // folder holding the tables (default: installed beside the program, or $TYNDALL_TABLES_DIR)
+    std::vector<std::string> names;  // e.g. hg, rayleigh, ggx, ggx-aniso; empty: every table in the folder
     bool json = false;
 };
 int tables(const TablesArgs& args);

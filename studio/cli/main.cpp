@@ -99,7 +99,12 @@ int main(int argc, char** argv) {
     infoCmd->add_flag("--json", info.json, "print as JSON");
 
     TablesArgs tablesArgs;
-    CLI::App* tablesCmd = app.add_subcommand("tables", "the fitted LTSD tables: provenance and error summary (docs/tables.md)");
+    CLI::App* tablesCmd = app.add_subcommand(
+        "tables", "the fitted tables (LTSD of phase functions, LTC of GGX): layout, provenance and error summary "
+                  "(docs/tables.md)");
+    tablesCmd->add_option("names", tablesArgs.names,
+                          "tables to describe in detail, with their error against g or alpha (e.g. hg, ggx-aniso); "
+                          "default: a summary of every table");
     tablesCmd->add_option("--tables", tablesArgs.tables, "folder holding the tables (default: installed with tyndall; or $TYNDALL_TABLES_DIR)");
     tablesCmd->add_flag("--json", tablesArgs.json, "print as JSON");
     tablesCmd->require_subcommand(0, 1);

@@ -3,7 +3,9 @@
 #include "commands.h"
 
 #include "tyndall/error.h"
+#include "tyndall/ltc_table.h"
 #include "tyndall/ltsd_table.h"
+#include "tyndall/output.h"
 
 #include <nlohmann/json.hpp>
 
@@ -12,22 +14,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 namespace tyndall::cli {
 
 namespace {
-
-int reportErrors(const std::function<int()>& body) {
-    try {
-        return body();
-    } catch (const InputError& e) {
-        std::fprintf(stderr, "tyndall: error: %s\n", e.what());
-        return kBadInput;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "tyndall: failure: %s\n", e.what());
-        return kFailure;
-    }
-}
 
 nlohmann::json parseArgument(const std::string& text, const std::string& option) {
     try {
@@ -104,45 +95,159 @@ std::vector<glm::dvec3> parsePolygon(const std::string& text) {
 
 }  // namespace
 
-int tables(const TablesArgs& args) {
-    return reportErrors([&] {
-        const LtsdTable table = loadLtsdTable(ltsdTablePath("hg", args.tables));
-        nlohmann::json j = {{"table", table.path},
-                            {"phase", table.phase},
-                            {"entriesPerHalf", table.entriesPerHalf},
-                            {"gRange", {-table.gMax, table.gMax}},
-                            {"provenance", table.provenance}};
-        if (args.json) {
-            std::printf("%s\n", j.dump(2).c_str());
-            return int(kOk);
-        }
+namespace {
+
+// The tables in a folder, by file: <name>.ltsd (LTSD tables of phase functions) and <name>.ltc (LTC GGX tables).
+struct TableFile {
+    std::string name;
+    std::filesystem::path path;
+    bool ltc = false;
+};
+
+std::vector<TableFile> tablesIn(const std::filesystem::path& dir) {
+    std::vector<TableFile> files;
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string ext = it->path().extension().string();
+        if (ext == ".ltsd" || ext == ".ltc") files.push_back({it->path().stem().string(), it->path(), ext == ".ltc"});
+    }
+    // LTSD tables first (hg leads: the paper's), then LTC; by name within each.
+    std::sort(files.begin(), files.end(), [](const TableFile& a, const TableFile& b) {
+        const auto key = [](const TableFile& f) { return std::make_tuple(f.ltc, f.name != "hg", f.name); };
+        return key(a) < key(b);
+    });
+    return files;
+}
+
+std::string listOf(const std::vector<TableFile>& files) {
+    std::string list;
+    for (const TableFile& f : files) list += (list.empty() ? "" : ", ") + f.name;
+    return list.empty() ? "none" : list;
+}
+
+double number(const nlohmann::json& j, const char* key) {
+    return j.contains(key) && j[key].is_number() ? j[key].get<double>() : std::nan("");
+}
+
+// The provenance lines that both kinds of table share (docs/tables.md, "Provenance").
+void printProvenance(const std::string& path, const nlohmann::json& p) {
+    if (p.is_null()) {
+        std::printf("  no provenance (%s.json is missing)\n", path.c_str());
+        return;
+    }
+    const nlohmann::json machine = p.value("machine", nlohmann::json::object());
+    std::printf("  command:  %s\n  settings: %s\n  seed:     %s (%s)\n  fitted:   %s in %.2f s on %s (%s, %s threads)\n",
+                p.value("command", "?").c_str(), p.value("settings", nlohmann::json()).dump().c_str(),
+                p.value("seed", nlohmann::json()).dump().c_str(), p.value("seedNote", "").c_str(),
+                p.value("date", "?").c_str(), p.value("fitSeconds", 0.0), machine.value("host", "?").c_str(),
+                machine.value("cpu", "?").c_str(), machine.value("threadsUsed", nlohmann::json()).dump().c_str());
+    if (p.contains("errorSummary"))
+        std::printf("  total variation per entry: max %.3e, mean %.3e\n",
+                    number(p["errorSummary"], "entryTotalVariationMax"), number(p["errorSummary"], "entryTotalVariationMean"));
+}
+
+// One table: its layout and provenance (and with `detail` the error summary's rows); the JSON form goes into `out`.
+void describe(const TableFile& file, bool detail, bool json, nlohmann::json& out) {
+    if (!file.ltc) {
+        const LtsdTable table = loadLtsdTable(file.path);
+        out.push_back({{"table", table.path},
+                       {"kind", "ltsd"},
+                       {"phase", table.phase},
+                       {"entriesPerHalf", table.entriesPerHalf},
+                       {"gRange", {-table.gMax, table.gMax}},
+                       {"provenance", table.provenance}});
+        if (json) return;
+        if (table.entriesPerHalf == 1)
+            std::printf("%s: LTSD table of %s, 2 x 1 entries (no parameter)\n", table.path.c_str(), table.phase.c_str());
+        else
+            std::printf("%s: LTSD table of %s, 2 x %d entries, g in [%.3f, %.3f] (beyond: clamped)\n",
+                        table.path.c_str(), table.phase.c_str(), table.entriesPerHalf, -double(table.gMax),
+                        double(table.gMax));
+        printProvenance(table.path, table.provenance);
         const nlohmann::json& p = table.provenance;
-        std::printf("%s: LTSD table of %s, 2 x %d entries, g in [%.3f, %.3f] (beyond: clamped)\n", table.path.c_str(),
-                    table.phase.c_str(), table.entriesPerHalf, -double(table.gMax), double(table.gMax));
-        if (p.is_null()) {
-            std::printf("  no provenance (%s.json is missing)\n", table.path.c_str());
-            return int(kOk);
-        }
-        std::printf("  command:  %s\n  settings: %s\n  seed:     %s (%s)\n  fitted:   %s in %.2f s on %s (%s, %s threads)\n",
-                    p.value("command", "?").c_str(), p.value("settings", nlohmann::json()).dump().c_str(),
-                    p.value("seed", nlohmann::json()).dump().c_str(), p.value("seedNote", "").c_str(),
-                    p.value("date", "?").c_str(), p.value("fitSeconds", 0.0), p["machine"].value("host", "?").c_str(),
-                    p["machine"].value("cpu", "?").c_str(), p["machine"].value("threadsUsed", nlohmann::json()).dump().c_str());
-        if (p.contains("errorSummary")) {
-            const nlohmann::json& e = p["errorSummary"];
-            std::printf("  total variation per entry: max %.3e, mean %.3e\n", e.value("entryTotalVariationMax", 0.0),
-                        e.value("entryTotalVariationMean", 0.0));
+        if (detail && p.contains("errorSummary") && p["errorSummary"].contains("againstG")) {
             std::printf("  %8s %12s %12s %12s\n", "g", "tv upper", "tv lower", "S bound");
-            for (const auto& row : e["againstG"])
-                std::printf("  %8.3f %12.3e %12.3e %12.3e\n", row["g"].get<double>(), row["tvUpper"].get<double>(),
-                            row["tvLower"].get<double>(), row["bound"].get<double>());
+            for (const auto& row : p["errorSummary"]["againstG"])
+                std::printf("  %8.3f %12.3e %12.3e %12.3e\n", number(row, "g"), number(row, "tvUpper"),
+                            number(row, "tvLower"), number(row, "bound"));
         }
+        return;
+    }
+    const LtcTable table = loadLtcTable(file.path);
+    nlohmann::json sizes = nlohmann::json::array();
+    for (int d = 0; d < table.dimensions; ++d) sizes.push_back(table.sizes[size_t(d)]);
+    out.push_back({{"table", table.path},
+                   {"kind", "ltc"},
+                   {"brdf", "ggx"},
+                   {"anisotropic", !table.isotropicTable()},
+                   {"sizes", sizes},
+                   {"alphaRange", {table.alphaMin, 1.0}},
+                   {"provenance", table.provenance}});
+    if (json) return;
+    if (table.isotropicTable())
+        std::printf("%s: LTC table of GGX, isotropic, %d x %d entries over sqrt(1 - cos theta) in [0, 1] and alpha in "
+                    "[%.3f, 1] (beyond: clamped)\n",
+                    table.path.c_str(), table.xCount(), table.alphaCount(), double(table.alphaMin));
+    else
+        std::printf("%s: LTC table of GGX, anisotropic, %d x %d x %d x %d entries over theta_o, phi_o, alpha in "
+                    "[%.3f, 1] and the roughness ratio in [%.3f, 1] (beyond: clamped)\n",
+                    table.path.c_str(), table.thetaCount(), table.phiCount(), table.alphaCount(), table.ratioCount(),
+                    double(table.alphaMin), double(table.ratioMin));
+    printProvenance(table.path, table.provenance);
+    const nlohmann::json& p = table.provenance;
+    if (detail && p.contains("errorSummary") && p["errorSummary"].contains("againstAlpha")) {
+        const bool aniso = !table.isotropicTable();
+        std::printf(aniso ? "  %8s %8s %12s %12s\n" : "  %8s%s %12s %12s\n", "alpha", aniso ? "ratio" : "", "tv max",
+                    "tv mean");
+        for (const auto& row : p["errorSummary"]["againstAlpha"]) {
+            if (aniso)
+                std::printf("  %8.3f %8.3f %12.3e %12.3e\n", number(row, "alpha"), number(row, "ratio"),
+                            number(row, "tvMax"), number(row, "tvMean"));
+            else
+                std::printf("  %8.3f %12.3e %12.3e\n", number(row, "alpha"), number(row, "tvMax"), number(row, "tvMean"));
+        }
+    }
+}
+
+}  // namespace
+
+int tables(const TablesArgs& args) {
+    return guarded([&] {
+        const std::filesystem::path dir = ltsdTablesDirectory(args.tables);
+        std::error_code ec;
+        if (!std::filesystem::is_directory(dir, ec))
+            throw InputError(InputLocation{dir.string(), 0, 0, "--tables"}, "is not a folder");
+        const std::vector<TableFile> present = tablesIn(dir);
+        std::vector<TableFile> chosen;
+        if (args.names.empty()) {
+            if (present.empty())
+                throw InputError(InputLocation{dir.string(), 0, 0, "--tables"},
+                                 "holds no tables (*.ltsd, *.ltc); the shipped ones are hg, rayleigh, hazy-mie, "
+                                 "murky-mie, ggx and ggx-aniso");
+            chosen = present;
+        }
+        for (const std::string& name : args.names) {
+            const auto it = std::find_if(present.begin(), present.end(), [&](const TableFile& f) { return f.name == name; });
+            if (it == present.end())
+                throw InputError(InputLocation{dir.string(), 0, 0, "tables " + name},
+                                 "no table named '" + name + "' (" + name + ".ltsd or " + name + ".ltc); this folder has: " +
+                                     listOf(present));
+            chosen.push_back(*it);
+        }
+        // Every table is loaded (and so checked) before anything is printed: a corrupt one fails the command.
+        nlohmann::json out = nlohmann::json::array();
+        const bool detail = !args.names.empty();
+        for (size_t i = 0; i < chosen.size(); ++i) {
+            if (!args.json && i > 0) std::printf("\n");
+            describe(chosen[i], detail, args.json, out);
+        }
+        if (args.json) std::printf("%s\n", out.dump(2).c_str());
         return int(kOk);
     });
 }
 
 int tablesEval(const TablesEvalArgs& args) {
-    return reportErrors([&] {
+    return guarded([&] {
         const LtsdPhase phase = parsePhase(args.phase);
         const std::vector<glm::dvec3> vertices = parsePolygon(args.polygon);
         // Isotropic and Eddington are exact and read no table; mix reads HG's.
@@ -179,7 +284,7 @@ int tablesEval(const TablesEvalArgs& args) {
 }
 
 int plot(const PlotArgs& args) {
-    return reportErrors([&] {
+    return guarded([&] {
         const std::filesystem::path out(args.out);
         if (out.extension() != ".csv")
             throw InputError(InputLocation{"", 0, 0, "--out"},
@@ -207,21 +312,8 @@ int plot(const PlotArgs& args) {
                 csv += line;
             }
         }
-        // Atomically, so that a failed write leaves no partial file.
-        const std::filesystem::path partial = out.string() + ".partial";
-        {
-            std::ofstream file(partial, std::ios::binary);
-            file << csv;
-            file.close();
-            if (!file) {
-                std::error_code ec;
-                std::filesystem::remove(partial, ec);
-                throw std::runtime_error("cannot write " + args.out);
-            }
-        }
-        std::error_code ec;
-        std::filesystem::rename(partial, out, ec);
-        if (ec) throw std::runtime_error("cannot write " + args.out + ": " + ec.message());
+        // All or nothing, through an unpredictable temporary (docs/conventions.md, "Exit codes, outputs and limits").
+        writeFileAtomically(args.out, csv);
         return int(kOk);
     });
 }

@@ -27,14 +27,18 @@ std::string kernelSource(const std::string& prelude, const std::string& body, bo
 }
 
 template <typename T>
-std::vector<T> run(Context& context, const std::string& source, const std::vector<T>& inputs) {
+std::vector<T> run(Context& context, const std::string& source, const std::vector<T>& inputs, double* gpuMilliseconds) {
     CompileResult compiled = compileGlslSource(source, "harness.comp.glsl", ShaderStage::Compute);
     if (!compiled.ok) throw ShaderError(*compiled.error);
     const uint32_t n = uint32_t(inputs.size());
     Buffer in(context, std::max<size_t>(1, n) * sizeof(T)), out(context, std::max<size_t>(1, n) * sizeof(T));
     in.upload(inputs);
     ComputeKernel kernel(context, compiled.spirv, 2, sizeof(uint32_t), "harness");
-    context.submitAndWait([&](VkCommandBuffer cmd) { kernel.record(cmd, {&in, &out}, &n, (n + 63) / 64); });
+    const auto record = [&](VkCommandBuffer cmd) { kernel.record(cmd, {&in, &out}, &n, (n + 63) / 64); };
+    if (gpuMilliseconds)
+        *gpuMilliseconds = context.submitTimed(record);
+    else
+        context.submitAndWait(record);
     return out.download<T>(n);
 }
 
@@ -66,14 +70,14 @@ HarnessReport compare(const std::vector<V>& inputs, const std::vector<V>& gpu, c
 }  // namespace
 
 std::vector<glm::vec4> evaluateOnGpu(Context& context, const std::string& prelude, const std::string& body,
-                                     const std::vector<glm::vec4>& inputs) {
-    return run(context, kernelSource(prelude, body, false), inputs);
+                                     const std::vector<glm::vec4>& inputs, double* gpuMilliseconds) {
+    return run(context, kernelSource(prelude, body, false), inputs, gpuMilliseconds);
 }
 
 std::vector<glm::dvec4> evaluateOnGpuDouble(Context& context, const std::string& prelude, const std::string& body,
                                             const std::vector<glm::dvec4>& inputs) {
     if (!context.device().shaderFloat64) throw GpuError("the device '" + context.device().name + "' has no float64");
-    return run(context, kernelSource(prelude, body, true), inputs);
+    return run(context, kernelSource(prelude, body, true), inputs, nullptr);
 }
 
 HarnessReport compareWithCpu(const std::vector<glm::vec4>& inputs, const std::vector<glm::vec4>& gpu,

@@ -23,9 +23,10 @@ struct HarnessReport {
 
 // `prelude` is GLSL placed after the #version line: #includes of shared headers and helper functions. `body` is the
 // body of `vec4 evaluate(vec4 x)`. Every input is evaluated in one invocation. Throws ShaderError for GLSL that does
-// not compile (with file and line) and GpuError for GPU failures.
+// not compile (with file and line) and GpuError for GPU failures. With `gpuMilliseconds`, the dispatch's GPU time
+// (timestamps; negative where the queue has none) is stored there, for benchmarks of shared functions.
 std::vector<glm::vec4> evaluateOnGpu(Context& context, const std::string& prelude, const std::string& body,
-                                     const std::vector<glm::vec4>& inputs);
+                                     const std::vector<glm::vec4>& inputs, double* gpuMilliseconds = nullptr);
 
 // The same in double precision (dvec4), for devices with shaderFloat64; throws GpuError when the device lacks it.
 std::vector<glm::dvec4> evaluateOnGpuDouble(Context& context, const std::string& prelude, const std::string& body,
