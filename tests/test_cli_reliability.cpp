@@ -121,6 +121,9 @@ const std::vector<BadProject>& badProjects() {
         {"number_too_large.json", {"number_too_large.json:4:", "camera.fovY", "1e999 is too large"}},
         {"polyhedron_1100_planes.json", {"media[0].planes", "at most 1024 planes, got 1100"}},
         {"particles_over_total_limit.json", {"particleMedia[2]", "at most 2000000 in all"}},
+        // Rendered as all-black images with exit 0 (every sample overflowed and was zeroed).
+        {"light_radiance_1e300.json", {"lights[0].radiance", "must be in [0, 1e+15]"}},
+        {"medium_sigma_s_1e300.json", {"media[0].sigma_s", "must be in [0, 1e+06]"}},
     };
     return projects;
 }

@@ -264,9 +264,9 @@ void readCoefficients(const JsonField& f, HomogeneousMedium& medium) {
     const bool albedoForm = albedo.present() || extinction.present();
     if (!albedoForm) {
         medium.sigma_s = f["sigma_s"].rgbOr(medium.sigma_s);
-        requireEachAtLeast(f["sigma_s"], medium.sigma_s, 0.0);
+        requireEachInRange(f["sigma_s"], medium.sigma_s, 0.0, kMaxCoefficient);
         medium.sigma_a = f["sigma_a"].rgbOr(medium.sigma_a);
-        requireEachAtLeast(f["sigma_a"], medium.sigma_a, 0.0);
+        requireEachInRange(f["sigma_a"], medium.sigma_a, 0.0, kMaxCoefficient);
         return;
     }
     const JsonField& given = albedo.present() ? albedo : extinction;
@@ -277,7 +277,7 @@ void readCoefficients(const JsonField& f, HomogeneousMedium& medium) {
     if (!extinction.present()) extinction.fail("is required together with 'albedo'");
     const Rgb rho = albedo.rgb(), sigma_t = extinction.rgb();
     requireEachInRange(albedo, rho, 0.0, 1.0);
-    requireEachAtLeast(extinction, sigma_t, 0.0);
+    requireEachInRange(extinction, sigma_t, 0.0, kMaxCoefficient);
     medium.sigma_s = rho * sigma_t;
     medium.sigma_a = sigma_t - medium.sigma_s;
 }
@@ -314,7 +314,7 @@ Particle readParticle(const JsonField& f) {
     requireInWorld(f["scale"], p.centre, p.scale);
     p.orientation = readOrientation(f["orientation"], p.orientation);
     p.extinctionMultiplier = f["extinctionMultiplier"].numberOr(p.extinctionMultiplier);
-    requireAtLeast(f["extinctionMultiplier"], p.extinctionMultiplier, 0.0);
+    requireInRange(f["extinctionMultiplier"], p.extinctionMultiplier, 0.0, kMaxCoefficient);
     p.falloff = f["falloff"].numberOr(p.falloff);
     requireAbove(f["falloff"], p.falloff, 0.0);
     return p;
@@ -334,7 +334,7 @@ ParticleGenerator readGenerator(const JsonField& f) {
     g.multiplierMin = f["multiplierMin"].numberOr(g.multiplierMin);
     requireAtLeast(f["multiplierMin"], g.multiplierMin, 0.0);
     g.multiplierMax = f["multiplierMax"].numberOr(g.multiplierMax);
-    requireAtLeast(f["multiplierMax"], g.multiplierMax, g.multiplierMin);
+    requireInRange(f["multiplierMax"], g.multiplierMax, g.multiplierMin, kMaxCoefficient);
     return g;
 }
 
@@ -383,7 +383,7 @@ ParticleMedium readParticleMedium(const JsonField& f) {
     ParticleMedium medium;
     medium.name = readName(f);
     medium.extinction = f["extinction"].numberOr(medium.extinction);
-    requireAtLeast(f["extinction"], medium.extinction, 0.0);
+    requireInRange(f["extinction"], medium.extinction, 0.0, kMaxCoefficient);
     medium.albedo = f["albedo"].rgbOr(medium.albedo);
     requireEachInRange(f["albedo"], medium.albedo, 0.0, 1.0);
     medium.phase = readPhase(f["phase"]);
@@ -440,7 +440,7 @@ PointLight readPointLight(const JsonField& f) {
     light.name = readName(f);
     light.position = readPoint(f["position"], light.position);
     light.intensity = f["intensity"].rgbOr(light.intensity);
-    requireEachAtLeast(f["intensity"], light.intensity, 0.0);
+    requireEachInRange(f["intensity"], light.intensity, 0.0, kMaxRadiometric);
     light.distribution = readDistribution(f["distribution"]);
     return light;
 }
@@ -457,7 +457,7 @@ DirectionalLight readDirectionalLight(const JsonField& f) {
     light.name = readName(f);
     light.direction = readDirection(f["direction"], light.direction);
     light.irradiance = f["irradiance"].rgbOr(light.irradiance);
-    requireEachAtLeast(f["irradiance"], light.irradiance, 0.0);
+    requireEachInRange(f["irradiance"], light.irradiance, 0.0, kMaxRadiometric);
     if (f["gobo"].present()) {
         light.gobo = f["gobo"].vec3s();
         requireValidPolygon(f["gobo"], light.gobo);
@@ -472,7 +472,7 @@ AreaLight readAreaLight(const JsonField& f) {
     light.vertices = f["vertices"].vec3s();
     requireValidPolygon(f["vertices"], light.vertices);
     light.radiance = f["radiance"].rgbOr(light.radiance);
-    requireEachAtLeast(f["radiance"], light.radiance, 0.0);
+    requireEachInRange(f["radiance"], light.radiance, 0.0, kMaxRadiometric);
     light.twoSided = f["twoSided"].booleanOr(light.twoSided);
     return light;
 }

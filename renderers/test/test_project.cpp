@@ -3,6 +3,7 @@
 #include "tyndall/project.h"
 
 #include "tyndall/error.h"
+#include "tyndall/render.h"
 #include "tyndall/technique.h"
 
 #include <gtest/gtest.h>
@@ -1173,3 +1174,25 @@ TEST(ProjectResolvePart, UsesTheViewsPartOrTheTechniquesDefault) {
 
 }  // namespace
 }  // namespace tyndall
+
+// A few non-finite samples (a numerical corner) are a warning; more than kMaxNonFiniteFraction of the samples fail the
+// render, so that an image whose samples overflowed is never written as if it were a render (issue 21, item 9).
+TEST(RenderResultChecks, NonFiniteSamplesWarnOrFail) {
+    tyndall::RenderResult result;
+    result.image = tyndall::Image::rgb(100, 10);
+    result.spp = 10;  // 10 000 samples
+    EXPECT_EQ(tyndall::checkFiniteSamples(result), "");
+    result.image.metadata["nonFiniteSamples"] = "0";
+    EXPECT_EQ(tyndall::checkFiniteSamples(result), "");
+    result.image.metadata["nonFiniteSamples"] = "10";  // exactly 0.1 %
+    EXPECT_NE(tyndall::checkFiniteSamples(result).find("10 samples (0.1 %) were not finite"), std::string::npos);
+    result.image.metadata["nonFiniteSamples"] = "11";
+    EXPECT_THROW(tyndall::checkFiniteSamples(result), std::runtime_error);
+    result.image.metadata["nonFiniteSamples"] = "10000";
+    try {
+        tyndall::checkFiniteSamples(result);
+        FAIL() << "every sample non-finite must fail";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("nothing was written"), std::string::npos) << e.what();
+    }
+}

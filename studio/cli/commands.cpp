@@ -168,6 +168,8 @@ int render(const RenderArgs& args) {
         bar.finish();
         std::signal(SIGINT, SIG_DFL);
 
+        if (const std::string warning = checkFiniteSamples(result); !warning.empty())
+            std::fprintf(stderr, "tyndall: warning: %s\n", warning.c_str());
         const double exposure = args.exposure.value_or(job.exposure);
         OutputSet files;  // every output, or none
         for (const std::string& out : outs) files.stage(out, encodeImage(result.image, out, exposure, tonemap));
@@ -176,11 +178,6 @@ int render(const RenderArgs& args) {
             std::printf("wrote %s (%d x %d, %d spp, %.2f s)\n", out.c_str(), result.image.width(),
                         result.image.height(), result.spp, result.seconds);
         }
-        // A technique replaces a sample that is NaN or infinite by 0 and counts it; say so rather than let a dark image
-        // pass unnoticed.
-        if (auto it = result.image.metadata.find("nonFiniteSamples"); it != result.image.metadata.end() && it->second != "0")
-            std::fprintf(stderr, "tyndall: warning: %s samples were not finite and count as 0 (metadata nonFiniteSamples)\n",
-                         it->second.c_str());
         return int(kOk);
     });
 }

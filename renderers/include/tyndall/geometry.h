@@ -16,6 +16,12 @@ namespace tyndall {
 // across. docs/conventions.md lists them.
 inline constexpr double kMaxWorldCoordinate = 1e8;  // m
 inline constexpr double kMinPolygonSize = 1e-6;     // m, the diagonal of the polygon's bounding box
+// Radiometric values (intensity W/sr, irradiance W/m^2, radiance W/(m^2 sr)) and coefficients (sigma_s, sigma_a,
+// extinction, 1/m) are bounded too, so that products of them with the geometry's factors (1/r^2 over the world's
+// extent, path throughputs) stay finite in float: the sun's radiance is about 2e7 W/(m^2 sr), a mean free path of
+// 1 micrometre is 1e6 /m.
+inline constexpr double kMaxRadiometric = 1e15;
+inline constexpr double kMaxCoefficient = 1e6;  // 1/m
 // A convex polyhedron medium has at most this many planes: clipping costs O(planes^2) or more.
 inline constexpr std::size_t kMaxPolyhedronPlanes = 1024;
 

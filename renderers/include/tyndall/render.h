@@ -47,6 +47,13 @@ void checkJob(const RenderJob& job);
 // Runs the job and stamps the image with the job's metadata, spp, render time and Tyndall's version.
 RenderResult runJob(RenderJob& job, const RenderCallbacks& callbacks = {});
 
+// A technique replaces a sample that is NaN or infinite by 0 and counts it (metadata nonFiniteSamples). A few (a
+// numerical corner: at most kMaxNonFiniteFraction of the samples) give a warning, returned for the caller to show;
+// more mean that the image is not a render of the scene: a std::runtime_error (exit 1), so that nothing is written
+// (docs/conventions.md, "Exit codes, outputs and limits"). Returns "" when every sample was finite.
+inline constexpr double kMaxNonFiniteFraction = 1e-3;
+std::string checkFiniteSamples(const RenderResult& result);
+
 const char* tyndallVersion();
 
 }  // namespace tyndall
