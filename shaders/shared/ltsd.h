@@ -17,8 +17,8 @@
 
 TY_BEGIN
 
-// Room for an input polygon of up to kLtsdMaxVertices - 1 vertices plus the one that a horizon clip can add to a
-// convex polygon.
+// A polygon holds up to kLtsdMaxVertices vertices; inputs (lights, `tyndall tables eval`) take at most
+// kLtsdMaxVertices - 1, so that a clipped polygon (one vertex more) fits too where a caller stores one.
 TY_CONST int kLtsdMaxVertices = 10;
 
 TY_CONST int kLtsdSourceClampedCosine = 0;         // D_o = max(z, 0) / pi
@@ -40,71 +40,141 @@ struct LtsdEntry {
 // ---------------------------------------------------------------------------------------------------------------------
 // Polygons
 
-// The part of `p` with side * z >= 0 (side = +1: upper hemisphere, -1: lower). Clipping the cone with the plane z = 0
-// clips each face's chord, and the chord's crossing point is a direction on the face's great arc.
-TY_FUNC SphericalPolygon ltsdClipHemisphere(TY_IN(SphericalPolygon) p, float side) {
-    SphericalPolygon result;
-    result.count = 0;
-    for (int i = 0; i < kLtsdMaxVertices; ++i) result.v[i] = vec3(0.0f);
-    for (int i = 0; i < p.count; ++i) {
-        vec3 a = p.v[i];
-        vec3 b = p.v[i + 1 == p.count ? 0 : i + 1];
-        float da = side * a.z;
-        float db = side * b.z;
-        if (da >= 0.0f && result.count < kLtsdMaxVertices) {
-            result.v[result.count] = a;
-            result.count += 1;
-        }
-        if (((da > 0.0f && db < 0.0f) || (da < 0.0f && db > 0.0f)) && result.count < kLtsdMaxVertices) {
-            vec3 c = mix(a, b, da / (da - db));
-            result.v[result.count] = vec3(c.x, c.y, 0.0f);
-            result.count += 1;
-        }
-    }
-    if (result.count < 3) result.count = 0;
-    return result;
-}
-
-TY_FUNC SphericalPolygon ltsdMirrorZ(TY_IN(SphericalPolygon) p) {
-    SphericalPolygon result = p;
-    for (int i = 0; i < p.count; ++i) result.v[i].z = -p.v[i].z;
-    return result;
-}
-
-TY_FUNC SphericalPolygon ltsdTransform(TY_IN(mat3) m, TY_IN(SphericalPolygon) p) {
-    SphericalPolygon result = p;
-    for (int i = 0; i < p.count; ++i) result.v[i] = m * p.v[i];
-    return result;
+// Loops over a polygon's vertices run over the constant kLtsdMaxVertices with the count as a condition, and read the
+// next vertex by a select of two constant indices: unrolled, every access has a constant index, so the polygon stays
+// in registers. A loop bounded by the count indexes it dynamically, which lavapipe serves from memory, lane by lane.
+TY_FUNC vec3 ltsdNextVertex(TY_IN(SphericalPolygon) p, int i) {
+    return i + 1 < p.count ? p.v[min(i + 1, kLtsdMaxVertices - 1)] : p.v[0];
 }
 
 // Signed solid angle: a fan of Van Oosterom-Strackee triangles, tan(Omega / 2) = a.(b x c) / (1 + a.b + b.c + c.a).
 // Positive when the vertices turn counter-clockwise seen from outside the sphere.
 TY_FUNC float ltsdSignedSolidAngle(TY_IN(SphericalPolygon) p) {
-    if (p.count < 3) return 0.0f;
     vec3 a = normalize(p.v[0]);
     float sum = 0.0f;
-    for (int i = 1; i + 1 < p.count; ++i) {
-        vec3 b = normalize(p.v[i]);
-        vec3 c = normalize(p.v[i + 1]);
-        float numerator = dot(a, cross(b, c));
-        float denominator = 1.0f + dot(a, b) + dot(b, c) + dot(c, a);
-        sum += 2.0f * atan(numerator, denominator);
+    for (int i = 1; i + 1 < kLtsdMaxVertices; ++i) {
+        if (i + 1 < p.count) {
+            vec3 b = normalize(p.v[i]);
+            vec3 c = normalize(p.v[i + 1]);
+            float numerator = dot(a, cross(b, c));
+            float denominator = 1.0f + dot(a, b) + dot(b, c) + dot(c, a);
+            sum += 2.0f * atan(numerator, denominator);
+        }
     }
-    return sum;
+    return p.count < 3 ? 0.0f : sum;
+}
+
+// The edge a -> b's term of Lambert's formula, theta n.z with n the edge's unit normal and theta its angle (atan(|c|,
+// d), accurate for short edges too), without the 1 / (2 pi).
+TY_FUNC float ltsdEdgeCosineTerm(TY_IN(vec3) a, TY_IN(vec3) b) {
+    vec3 c = cross(a, b);
+    float s = length(c);
+    return s > 0.0f ? atan(s, dot(a, b)) * c.z / s : 0.0f;
 }
 
 // (1 / 2 pi) sum over edges of theta_i n_i.z, the edge integral of Lambert's formula: the integral of z / pi over the
-// polygon, with the sign of ltsdSignedSolidAngle. The angle comes from atan(|c|, d), accurate for short edges too.
+// polygon, with the sign of ltsdSignedSolidAngle.
 TY_FUNC float ltsdSignedCosineSum(TY_IN(SphericalPolygon) p) {
     float sum = 0.0f;
-    for (int i = 0; i < p.count; ++i) {
-        vec3 a = normalize(p.v[i]);
-        vec3 b = normalize(p.v[i + 1 == p.count ? 0 : i + 1]);
-        vec3 c = cross(a, b);
-        float s = length(c);
-        if (s > 0.0f) sum += atan(s, dot(a, b)) * c.z / s;
+    for (int i = 0; i < kLtsdMaxVertices; ++i) {
+        if (i < p.count) sum += ltsdEdgeCosineTerm(normalize(p.v[i]), normalize(ltsdNextVertex(p, i)));
     }
     return sum * (0.5f * kInvPi);
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Clipped moments, edge by edge
+//
+// The integrals of the sources over a polygon clipped to the horizon need two numbers of the clipped polygon: its
+// signed solid angle and its signed cosine sum. Both are sums over its edges, so they are accumulated edge by edge
+// while each edge of P is clipped, with no clipped polygon ever stored (an array written at a running count is
+// indexed dynamically). Clipping a convex polygon to z >= 0 cuts each edge to its part above, and adds one edge along
+// the horizon, from the point where the boundary leaves the upper hemisphere to the point where it comes back. The
+// solid angle is a fan from +z, Van Oosterom-Strackee per edge: every clipped polygon lies in the closed upper
+// hemisphere, so -z, where the fan is singular, is never inside it.
+
+struct LtsdHorizonCut {
+    vec3 exitPoint;   // where the boundary crosses from z >= 0 to z < 0
+    vec3 entryPoint;  // where it comes back
+    bool exits;
+    bool enters;
+};
+
+TY_FUNC LtsdHorizonCut ltsdNoCut() {
+    LtsdHorizonCut cut;
+    cut.exitPoint = vec3(0.0f);
+    cut.entryPoint = vec3(0.0f);
+    cut.exits = false;
+    cut.enters = false;
+    return cut;
+}
+
+// Clips the edge a -> b to z >= 0 in place and records a crossing in `cut`; false when nothing of it is above.
+TY_FUNC bool ltsdClipEdge(TY_INOUT(vec3) a, TY_INOUT(vec3) b, TY_INOUT(LtsdHorizonCut) cut) {
+    float da = a.z;
+    float db = b.z;
+    if (da < 0.0f && db < 0.0f) return false;
+    if (da >= 0.0f && db >= 0.0f) return true;
+    vec3 c = mix(a, b, da / (da - db));
+    c.z = 0.0f;
+    if (da >= 0.0f) {
+        b = c;
+        cut.exitPoint = c;
+        cut.exits = true;
+    } else {
+        a = c;
+        cut.entryPoint = c;
+        cut.enters = true;
+    }
+    return true;
+}
+
+// Adds the edge a -> b (both with z >= 0, any length > 0) to the signed solid angle (x, fan from +z) and the signed
+// cosine sum (y, without its 1 / (2 pi)).
+TY_FUNC vec2 ltsdEdgeMoments(TY_IN(vec3) a0, TY_IN(vec3) b0) {
+    vec3 a = normalize(a0);
+    vec3 b = normalize(b0);
+    float omega = 2.0f * atan(cross(a, b).z, 1.0f + a.z + b.z + dot(a, b));
+    return vec2(omega, ltsdEdgeCosineTerm(a, b));
+}
+
+// The moments (x: the signed solid angle, y: the signed cosine sum without its 1 / (2 pi)) of mInv (side P)^+ clipped
+// again to z >= 0: P with z scaled by side (+1, or -1 to mirror its lower half up), clipped to the upper hemisphere,
+// mapped by mInv (det > 0, so orientation is kept), clipped once more. The result's sign is P's orientation (flipped
+// by the mirror).
+TY_FUNC vec2 ltsdClippedMoments(TY_IN(SphericalPolygon) p, TY_IN(mat3) mInv, float side) {
+    vec2 moments = vec2(0.0f);
+    LtsdHorizonCut first = ltsdNoCut();
+    LtsdHorizonCut second = ltsdNoCut();
+    for (int i = 0; i < kLtsdMaxVertices; ++i) {
+        if (i < p.count) {
+            vec3 a = p.v[i];
+            vec3 b = ltsdNextVertex(p, i);
+            a.z *= side;
+            b.z *= side;
+            if (ltsdClipEdge(a, b, first)) {
+                a = mInv * a;
+                b = mInv * b;
+                if (ltsdClipEdge(a, b, second)) moments += ltsdEdgeMoments(a, b);
+            }
+        }
+    }
+    if (first.exits && first.enters) {
+        vec3 a = mInv * first.exitPoint;
+        vec3 b = mInv * first.entryPoint;
+        if (ltsdClipEdge(a, b, second)) moments += ltsdEdgeMoments(a, b);
+    }
+    if (second.exits && second.enters) moments += ltsdEdgeMoments(second.exitPoint, second.entryPoint);
+    return moments;
+}
+
+// A source's integral over the clipped polygon from its moments: the clamped cosine's is E = |cosine sum| / (2 pi),
+// the inverse clamped cosine's Omega / pi - E (Eq. 20 of 000), each signed by the polygon's orientation.
+TY_FUNC float ltsdSourceFromMoments(TY_IN(vec2) moments, int source) {
+    float orientation = moments.x < 0.0f ? -1.0f : 1.0f;
+    float cosine = orientation * moments.y * (0.5f * kInvPi);
+    if (source == kLtsdSourceClampedCosine) return max(0.0f, cosine);
+    return max(0.0f, orientation * moments.x * kInvPi - cosine);
 }
 
 // The polygon's solid angle in sr, in [0, 2 pi] for a polygon inside a hemisphere.
@@ -115,25 +185,15 @@ TY_FUNC float ltsdSolidAngle(TY_IN(SphericalPolygon) p) {
 // E(P): the integral of the clamped cosine max(z, 0) / pi over P, in [0, 1] (the normalised cosine irradiance of Eq. 8
 // of 000): the edge integral over the part of P above the horizon.
 TY_FUNC float ltsdClampedCosineIntegral(TY_IN(SphericalPolygon) p) {
-    float orientation = ltsdSignedSolidAngle(p) < 0.0f ? -1.0f : 1.0f;
-    SphericalPolygon upper = ltsdClipHemisphere(p, 1.0f);
-    return max(0.0f, orientation * ltsdSignedCosineSum(upper));
+    return ltsdSourceFromMoments(ltsdClippedMoments(p, mat3(1.0f), 1.0f), kLtsdSourceClampedCosine);
 }
 
 // The integral over P of the inverse clamped cosine on the upper hemisphere, (1 - z) / pi for z > 0 (normalised: it
 // integrates to 1 over the hemisphere): Omega(P+) / pi - E(P), Eq. 20 of 000 with the normalisation (docs/tables.md).
 TY_FUNC float ltsdInverseClampedCosineIntegral(TY_IN(SphericalPolygon) p) {
-    float orientation = ltsdSignedSolidAngle(p) < 0.0f ? -1.0f : 1.0f;
-    SphericalPolygon upper = ltsdClipHemisphere(p, 1.0f);
-    float solidAngle = orientation * ltsdSignedSolidAngle(upper);
-    float cosine = orientation * ltsdSignedCosineSum(upper);
-    return max(0.0f, solidAngle * kInvPi - cosine);
+    return ltsdSourceFromMoments(ltsdClippedMoments(p, mat3(1.0f), 1.0f), kLtsdSourceInverseClampedCosine);
 }
 
-TY_FUNC float ltsdSourceIntegral(TY_IN(SphericalPolygon) p, int source) {
-    if (source == kLtsdSourceClampedCosine) return ltsdClampedCosineIntegral(p);
-    return ltsdInverseClampedCosineIntegral(p);
-}
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Source distributions: densities (per sr) and samplers
@@ -181,20 +241,22 @@ TY_FUNC float ltsdEval(TY_IN(LtsdEntry) e, TY_IN(vec3) w) {
 
 // The integral of the entry's fitted distribution over P: Eq. 7 of 000, the source's integral over M^-1 P.
 TY_FUNC float ltsdPolygonIntegral(TY_IN(LtsdEntry) e, TY_IN(SphericalPolygon) p) {
-    return ltsdSourceIntegral(ltsdTransform(ltsdInverse(ltsdMatrix(e)), p), e.source);
+    return ltsdSourceFromMoments(ltsdClippedMoments(p, ltsdInverse(ltsdMatrix(e)), 1.0f), e.source);
 }
 
 // Eq. 21 of 000 (with Eq. 17-19): S(z, A(z)) = a_u int_{M_u^-1 A^u} D_o^u + a_l int_{M_l^-1 A^l} D_o^l, the LTSD
 // approximation of the phase function's integral over P. `upper` is M_u with a_u, `lower` the table entry T with a_l
 // such that M_l = diag(1, 1, -1) T (Eq. 24): the lower half of P is mirrored to the upper hemisphere and transformed
-// by T^-1, so that M_l^-1 = T^-1 diag(1, 1, -1).
+// by T^-1, so that M_l^-1 = T^-1 diag(1, 1, -1). Each half is P clipped to its hemisphere (after the mirror: to the
+// upper one), transformed, and clipped again, since M^-1 may move part of it below the horizon.
 TY_FUNC float ltsdS(TY_IN(SphericalPolygon) p, TY_IN(LtsdEntry) upper, TY_IN(LtsdEntry) lower) {
     float sum = 0.0f;
-    SphericalPolygon above = ltsdClipHemisphere(p, 1.0f);
-    if (above.count >= 3 && upper.amplitude > 0.0f) sum += upper.amplitude * ltsdPolygonIntegral(upper, above);
-    SphericalPolygon below = ltsdClipHemisphere(p, -1.0f);
-    if (below.count >= 3 && lower.amplitude > 0.0f)
-        sum += lower.amplitude * ltsdPolygonIntegral(lower, ltsdMirrorZ(below));
+    if (upper.amplitude > 0.0f)
+        sum += upper.amplitude *
+               ltsdSourceFromMoments(ltsdClippedMoments(p, ltsdInverse(ltsdMatrix(upper)), 1.0f), upper.source);
+    if (lower.amplitude > 0.0f)
+        sum += lower.amplitude *
+               ltsdSourceFromMoments(ltsdClippedMoments(p, ltsdInverse(ltsdMatrix(lower)), -1.0f), lower.source);
     return sum;
 }
 
