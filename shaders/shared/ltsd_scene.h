@@ -185,6 +185,13 @@ TY_FUNC bool ltsdFacing(TY_IN(LtsdLight) light, TY_IN(vec3) p) {
 #endif
 }
 
+// Loops over a light's vertices run over the constant kLtsdLightMaxVertices with the count as a condition, and the
+// next vertex is a select of two constant indices, so that, unrolled, no access indexes the light dynamically
+// (lavapipe serves dynamically indexed arrays from memory, lane by lane; see shared/ltsd.h).
+TY_FUNC vec4 ltsdNextLightVertex(TY_IN(LtsdLight) light, int i) {
+    return i + 1 < light.vertexCount ? light.vertices[min(i + 1, kLtsdLightMaxVertices - 1)] : light.vertices[0];
+}
+
 // The light's polygon seen from p in the frame (x, y, z): its vertices relative to p in that basis.
 TY_FUNC SphericalPolygon ltsdLocalPolygon(TY_IN(LtsdLight) light, TY_IN(vec3) p, TY_IN(vec3) x, TY_IN(vec3) y,
                                           TY_IN(vec3) z) {
@@ -192,9 +199,8 @@ TY_FUNC SphericalPolygon ltsdLocalPolygon(TY_IN(LtsdLight) light, TY_IN(vec3) p,
     for (int i = 0; i < kLtsdMaxVertices; ++i) poly.v[i] = vec3(0.0f);
     poly.count = light.vertexCount;
     for (int i = 0; i < kLtsdLightMaxVertices; ++i) {
-        if (i >= light.vertexCount) break;
         vec3 v = vec3(light.vertices[i]) - p;
-        poly.v[i] = vec3(dot(v, x), dot(v, y), dot(v, z));
+        if (i < light.vertexCount) poly.v[i] = vec3(dot(v, x), dot(v, y), dot(v, z));
     }
     return poly;
 }
@@ -206,17 +212,18 @@ TY_FUNC vec3 ltsdNearestPoint(TY_IN(LtsdLight) light, TY_IN(vec3) p) {
     float best = kInfinity;
     vec3 nearest = q;
     for (int i = 0; i < kLtsdLightMaxVertices; ++i) {
-        if (i >= light.vertexCount) break;
-        vec3 a = vec3(light.vertices[i]);
-        vec3 b = vec3(light.vertices[i + 1 == light.vertexCount ? 0 : i + 1]);
-        vec3 e = b - a;
-        if (dot(cross(e, q - a), light.normal) < 0.0f) inside = false;
-        float t = clamp(dot(q - a, e) / max(dot(e, e), 1e-30f), 0.0f, 1.0f);
-        vec3 c = a + t * e;
-        float d2 = dot(q - c, q - c);
-        if (d2 < best) {
-            best = d2;
-            nearest = c;
+        if (i < light.vertexCount) {
+            vec3 a = vec3(light.vertices[i]);
+            vec3 b = vec3(ltsdNextLightVertex(light, i));
+            vec3 e = b - a;
+            if (dot(cross(e, q - a), light.normal) < 0.0f) inside = false;
+            float t = clamp(dot(q - a, e) / max(dot(e, e), 1e-30f), 0.0f, 1.0f);
+            vec3 c = a + t * e;
+            float d2 = dot(q - c, q - c);
+            if (d2 < best) {
+                best = d2;
+                nearest = c;
+            }
         }
     }
     return inside ? q : nearest;
@@ -243,20 +250,21 @@ TY_FUNC vec3 ltsdMeanTransmittance(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, T
     float h = abs(ltsdPlaneDistance(light, p));
     vec3 a = normalize(vec3(light.vertices[0]) - p);
     for (int i = 1; i + 1 < kLtsdLightMaxVertices; ++i) {
-        if (i + 1 >= light.vertexCount) break;
-        vec3 b = normalize(vec3(light.vertices[i]) - p);
-        vec3 c = normalize(vec3(light.vertices[i + 1]) - p);
-        // The weight from Van Oosterom and Strackee's formula, accurate for tiny triangles too (far lights), where
-        // the sampler's own area from the interior angles is not.
-        float omega = sphericalTriangleSolidAngle(a, b, c);
-        for (int k = 0; k < kLtsdTransmittanceGrid * kLtsdTransmittanceGrid; ++k) {
-            int ku = k / kLtsdTransmittanceGrid, kv = k - ku * kLtsdTransmittanceGrid;
-            vec2 u = (vec2(float(ku), float(kv)) + 0.5f) / float(kLtsdTransmittanceGrid);
-            float unused;
-            vec3 w = sampleSphericalTriangle(a, b, c, u, unused);
-            float r = h / max(abs(dot(w, light.normal)), 1e-6f);
-            sum += omega * exp(-f.sigmaT * ltsdChord(f, p, r * w));
-            weights += omega;
+        if (i + 1 < light.vertexCount) {
+            vec3 b = normalize(vec3(light.vertices[i]) - p);
+            vec3 c = normalize(vec3(light.vertices[i + 1]) - p);
+            // The weight from Van Oosterom and Strackee's formula, accurate for tiny triangles too (far lights),
+            // where the sampler's own area from the interior angles is not.
+            float omega = sphericalTriangleSolidAngle(a, b, c);
+            for (int k = 0; k < kLtsdTransmittanceGrid * kLtsdTransmittanceGrid; ++k) {
+                int ku = k / kLtsdTransmittanceGrid, kv = k - ku * kLtsdTransmittanceGrid;
+                vec2 u = (vec2(float(ku), float(kv)) + 0.5f) / float(kLtsdTransmittanceGrid);
+                float unused;
+                vec3 w = sampleSphericalTriangle(a, b, c, u, unused);
+                float r = h / max(abs(dot(w, light.normal)), 1e-6f);
+                sum += omega * exp(-f.sigmaT * ltsdChord(f, p, r * w));
+                weights += omega;
+            }
         }
     }
     return weights > 0.0f ? sum / weights : vec3(1.0f);
@@ -536,20 +544,21 @@ TY_FUNC float ltsdSampleLightPoint(TY_IN(LtsdLight) light, TY_IN(vec2) u, TY_IN(
     vec3 a = vec3(light.vertices[0]);
     float total = 0.0f;
     for (int i = 1; i + 1 < kLtsdLightMaxVertices; ++i) {
-        if (i + 1 >= light.vertexCount) break;
-        total += length(cross(vec3(light.vertices[i]) - a, vec3(light.vertices[i + 1]) - a));
+        if (i + 1 < light.vertexCount)
+            total += length(cross(vec3(light.vertices[i]) - a, vec3(light.vertices[i + 1]) - a));
     }
     float target = uTriangle * total, running = 0.0f;
     q = a;
     bool chosen = false;
     for (int i = 1; i + 1 < kLtsdLightMaxVertices; ++i) {
-        if (i + 1 >= light.vertexCount || chosen) break;
-        vec3 b = vec3(light.vertices[i]), c = vec3(light.vertices[i + 1]);
-        running += length(cross(b - a, c - a));
-        if (target <= running || i + 2 >= light.vertexCount) {
-            float su = sqrt(u.x);
-            q = (1.0f - su) * a + su * (1.0f - u.y) * b + su * u.y * c;
-            chosen = true;
+        if (i + 1 < light.vertexCount && !chosen) {
+            vec3 b = vec3(light.vertices[i]), c = vec3(light.vertices[i + 1]);
+            running += length(cross(b - a, c - a));
+            if (target <= running || i + 2 >= light.vertexCount) {
+                float su = sqrt(u.x);
+                q = (1.0f - su) * a + su * (1.0f - u.y) * b + su * u.y * c;
+                chosen = true;
+            }
         }
     }
     return 0.5f * total;
