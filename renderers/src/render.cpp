@@ -162,12 +162,13 @@ std::string checkFiniteSamples(const RenderResult& result) {
     if (it == result.image.metadata.end() || it->second == "0") return "";
     const double count = std::strtod(it->second.c_str(), nullptr);
     const double samples = double(result.image.width()) * double(result.image.height()) * double(std::max(result.spp, 1));
-    char fraction[32];
+    char fraction[32], limit[32];
     std::snprintf(fraction, sizeof fraction, "%.3g %%", 100.0 * count / std::max(samples, 1.0));
+    std::snprintf(limit, sizeof limit, "%.3g %%", 100.0 * kMaxNonFiniteFraction);
     if (!(count <= kMaxNonFiniteFraction * samples))
         throw std::runtime_error("the render failed: " + it->second + " samples (" + fraction +
-                          ") were not finite, above the limit of 0.1 %; nothing was written. This is a defect of "
-                          "Tyndall, or a value at the edge of the limits: please report the project");
+                                 ") were not finite, above the limit of " + limit + "; nothing was written. This is a "
+                                 "defect of Tyndall, or a value at the edge of the limits: please report the project");
     return it->second + " samples (" + fraction + ") were not finite and count as 0 (metadata nonFiniteSamples)";
 }
 

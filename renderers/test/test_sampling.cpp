@@ -517,7 +517,7 @@ TEST(SphericalTriangle, SamplingIsUniformInSolidAngle) {
 
         // Sub-triangle (i, j, upper) covers barycentric cell [i, i+1] x [j, j+1] / n, below or above its diagonal.
         std::vector<double> expected(size_t(2 * n * n), 0.0), observed(size_t(2 * n * n), 0.0);
-        const auto bin = [n](int i, int j, int upper) { return size_t(2 * (i * n + j) + upper); };
+        const auto bin = [](int i, int j, int upper) { return size_t(2 * (i * n + j) + upper); };
         double total = 0.0;
         for (int i = 0; i < n; ++i) {
             for (int j = 0; i + j < n; ++j) {
@@ -605,7 +605,8 @@ double integrateAroundMirror(const dvec3& wo, double zMin, const F& f) {
 // (theta, phi) with phi split at the anisotropy axes where the lobe is sharpest. Tolerance 1e-4 relative: quadrature
 // to 1e-7 relative of a float D.
 TEST(Ggx, NormalDistributionIsNormalised) {
-    for (auto [ax, ay] : kAlphas) {
+    for (const auto& alphas : kAlphas) {
+        const float ax = alphas.first, ay = alphas.second;  // clang 14 cannot capture structured bindings
         SCOPED_TRACE(std::to_string(ax) + ", " + std::to_string(ay));
         const auto integrand = [&](double theta, double phi) {
             const sh::vec3 h(fromSpherical(std::cos(theta), phi));
@@ -623,7 +624,8 @@ TEST(Ggx, NormalDistributionIsNormalised) {
 // the whole sphere of wi (h = normalize(wo + wi); D vanishes for wi.z < -wo.z). It holds only if Lambda matches D.
 // Tolerance 1e-3: quadrature of a peaked float integrand (alpha = 0.05 at 85 degrees) to ~1e-6, with margin.
 TEST(Ggx, WeakWhiteFurnace) {
-    for (auto [ax, ay] : kAlphas) {
+    for (const auto& alphas : kAlphas) {
+        const float ax = alphas.first, ay = alphas.second;  // clang 14 cannot capture structured bindings
         for (const dvec3& wo : viewDirections()) {
             SCOPED_TRACE(std::to_string(ax) + ", " + std::to_string(ay) + ", wo.z = " + std::to_string(wo.z));
             const sh::vec3 woF(wo);
@@ -644,7 +646,8 @@ TEST(Ggx, WeakWhiteFurnace) {
 // up to 60 degrees), and for alpha = 1 at normal incidence D = 1 / pi and G2 = 2 cos / (1 + cos), so
 // E = int_0^1 mu / (1 + mu) dmu = 1 - ln 2 exactly (tolerance 1e-4).
 TEST(Ggx, FullModelLosesEnergy) {
-    for (auto [ax, ay] : kAlphas) {
+    for (const auto& alphas : kAlphas) {
+        const float ax = alphas.first, ay = alphas.second;  // clang 14 cannot capture structured bindings
         const sh::MaterialParams m = ggx(ax, ay);
         for (const dvec3& wo : viewDirections()) {
             SCOPED_TRACE(std::to_string(ax) + ", " + std::to_string(ay) + ", wo.z = " + std::to_string(wo.z));

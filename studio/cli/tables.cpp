@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <tuple>
 
 namespace tyndall::cli {
@@ -92,10 +91,6 @@ std::vector<glm::dvec3> parsePolygon(const std::string& text) {
     }
     return vertices;
 }
-
-}  // namespace
-
-namespace {
 
 // The tables in a folder, by file: <name>.ltsd (LTSD tables of phase functions) and <name>.ltc (LTC GGX tables).
 struct TableFile {
@@ -234,7 +229,8 @@ int tables(const TablesArgs& args) {
                                      listOf(present));
             chosen.push_back(*it);
         }
-        // Every table is loaded (and so checked) before anything is printed: a corrupt one fails the command.
+        // Each table is loaded (and so checked) as it is described: a corrupt one fails the command with exit 2, after
+        // the ones before it were printed.
         nlohmann::json out = nlohmann::json::array();
         const bool detail = !args.names.empty();
         for (size_t i = 0; i < chosen.size(); ++i) {
