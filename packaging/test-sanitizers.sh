@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The sanitizer stage of CI: the renderer library, the CLI and their tests built with AddressSanitizer and
-# UndefinedBehaviorSanitizer (gcc, -fno-sanitize-recover: the first report fails the test), then the tests that
-# exercise the library's CPU code and the CLI. Left out, for time (the whole .ci/run must stay under 25 minutes on
+# UndefinedBehaviorSanitizer (clang, -fno-sanitize-recover: the first report fails the test), then the tests that
+# exercise the library's CPU code and the CLI, the fuzz targets' replays of their corpora and their deterministic
+# libFuzzer short runs (the same build: clang's -fsanitize=fuzzer-no-link adds the coverage libFuzzer needs). Left out, for time (the whole .ci/run must stay under 25 minutes on
 # 2 cores): the studio, the benchmarks, the reference's statistical tests (tyndall_reference_tests) and the GPU
 # technique tests (lavapipe under ASan is several times slower). docs/testing.md has the numbers.
 set -euo pipefail
@@ -10,12 +11,20 @@ build="${TYNDALL_SANITIZER_BUILD_DIR:-$root/build-sanitizers}"
 
 # -O1 -g1 (and NDEBUG, as in the main build): the optimisation the sanitizers' documentation recommends, and line
 # tables for the reports' stacks; both compile much faster than -O2 -g, which is what fits the stage into the budget.
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1 -DNDEBUG" \
+cxx=${TYNDALL_SANITIZER_CXX:-clang++-14}
+cc=${TYNDALL_SANITIZER_CC:-clang-14}
+if ! command -v "$cxx" >/dev/null; then
+    echo "sanitizers: $cxx is missing (packaging/debian-packages.txt lists clang-14; run packaging/install-deps.sh)" >&2
+    exit 1
+fi
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_C_COMPILER="$cc" \
+      -DTYNDALL_FUZZ=ON -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1 -DNDEBUG" \
       -DCMAKE_C_FLAGS_SANITIZE="-O1 -g1 -DNDEBUG" -DTYNDALL_WARNINGS_AS_ERRORS=ON \
       -DTYNDALL_SANITIZERS=address,undefined -DTYNDALL_BUILD_STUDIO=OFF -DTYNDALL_BUILD_BENCHMARKS=OFF \
       ${CMAKE_CXX_COMPILER_LAUNCHER:+-DCMAKE_CXX_COMPILER_LAUNCHER=$CMAKE_CXX_COMPILER_LAUNCHER}
 cmake --build "$build" -j "$(nproc)" --target tyndall tyndall_renderers_tests tyndall_cli_tests \
-      tyndall_cli_reliability_tests tyndall_fuzz_project_replay tyndall_fuzz_image_replay
+      tyndall_cli_reliability_tests tyndall_fuzz_project_replay tyndall_fuzz_image_replay tyndall_fuzz_project \
+      tyndall_fuzz_image
 
 # Mesa's lavapipe and LLVM keep allocations for the life of the process (the CLI's `info` enumerates devices).
 export LSAN_OPTIONS="suppressions=$root/.ci/lsan.supp:print_suppressions=0"
@@ -50,8 +59,9 @@ status=0
 first=$!
 run_tests cli tests ./tyndall_cli_tests '--gtest_filter=-Cli.RendersTheIsvSmoke*' || status=1
 wait "$first" || status=1
-# The replays unwind fully on every allocation: the leak that OpenImageIO's PNG reader leaves (.ci/lsan.supp) is
-# allocated inside libstdc++, where the fast unwinder stops, so without a full stack no suppression can name it. The
-# replays are small enough that this costs seconds.
-LSAN_OPTIONS="$LSAN_OPTIONS:fast_unwind_on_malloc=0" ctest --test-dir "$build" --output-on-failure -R '^Fuzz\.' || status=1
+# The fuzz targets: the replays of the seeds and past findings, and libFuzzer's short runs (a fixed seed and run count,
+# fuzz/CMakeLists.txt), two at a time. They unwind fully on every allocation: the leak that OpenImageIO's PNG reader
+# leaves (.ci/lsan.supp) is allocated inside libstdc++, where the fast unwinder stops, so without a full stack no
+# suppression can name it.
+LSAN_OPTIONS="$LSAN_OPTIONS:fast_unwind_on_malloc=0" ctest --test-dir "$build" --output-on-failure -j 2 -R '^Fuzz\.' || status=1
 exit "$status"
