@@ -151,7 +151,7 @@ QString labelOf(const ViewFrame& f, bool reference) {
     } else {
         if (f.rendering) line += " (rendering)";
         line += "  -  " + f.technique;
-        if (f.image) {
+        if (f.image && !f.file) {
             details = QString("  %1 ms").arg(f.seconds * 1e3, 0, 'f', 0);
             if (f.spp > 1) details += QString("  %1 spp").arg(f.spp);
         }
@@ -164,6 +164,7 @@ QString labelOf(const ViewFrame& f, bool reference) {
 
 QString metricsLine(const ViewFrame& f) {
     if (!f.metrics) {
+        if (const QString why = incomparable(f); !why.isEmpty()) return "no metrics: " + why;
         if (f.snapshot || f.alternate || !f.image) return {};
         return "metrics waiting for the reference" + (referenceProgress(f).isEmpty() ? QString() : ": " + referenceProgress(f));
     }
@@ -174,6 +175,21 @@ QString metricsLine(const ViewFrame& f) {
     if (f.regionMetrics) line += "  | region relMSE " + number(f.regionMetrics->relMSE);
     return line;
 }
+
+}  // namespace
+
+QString incomparable(const ViewFrame& frame) {
+    const ComparisonPair pair = comparisonPair(frame);
+    if (!pair.image || !pair.against) return {};
+    if (pair.image->width() == pair.against->width() && pair.image->height() == pair.against->height()) return {};
+    return QString("sizes differ: %1 x %2 against %3 x %4")
+        .arg(pair.image->width())
+        .arg(pair.image->height())
+        .arg(pair.against->width())
+        .arg(pair.against->height());
+}
+
+namespace {
 
 // The user's region, from image pixels into the view's rectangle on screen.
 void drawRegion(QPainter& p, QRect imageRect, QRectF visible, QRect region) {

@@ -48,6 +48,7 @@ struct ViewFrame {
     std::shared_ptr<const Image> alternate;   // another view's image chosen as the reference (Shift+1-9)
     QString alternateName;
     QString error;                            // the last render's failure
+    bool file = false;                        // an image opened from a file (image_file.h): read-only, not rendered
 };
 
 struct CompositorState {
@@ -83,6 +84,9 @@ ComparisonPair referencePair(const ViewFrame& frame);  // the same against the r
 // The reference is not of the view's current state (or missing): what its tile and the wipe say instead of nothing.
 bool referenceStale(const ViewFrame& frame);
 QString referenceProgress(const ViewFrame& frame);  // "24/64 spp, ETA 10 s", or empty when it is done
+// Why the view's pair cannot be compared ("sizes differ: 16 x 12 against 96 x 72"; an image opened from a file may
+// have any size), or empty.
+QString incomparable(const ViewFrame& frame);
 
 // Linear RGB to 8-bit display values after 2^exposure through `op`, like the PNGs the CLI writes (within one 8-bit
 // level for sRGB, which takes a table; exactly for the other operators).

@@ -1,12 +1,14 @@
-// tyndall-studio [project] [--set path=value ...] [--screenshot file.png]: the lookdev and comparison studio. Opens
-// the project (the bundled default project when none is given). With --screenshot it waits until every view and
+// tyndall-studio [project.json] [image ...] [--set path=value ...] [--screenshot file.png]: the lookdev and comparison
+// studio. Opens the project (the bundled default project when none is given) and each image (EXR, HDR, PNG, ...) as a
+// read-only view compared against the project's reference, as tev opens images. With --screenshot it waits until every view and
 // reference has rendered, saves a picture of the screen and quits (for documentation and checks). Needs a window
 // system with Vulkan surfaces (the xcb platform; lavapipe does).
 //
 // With --screenshot the run is non-interactive: it never waits on a dialog. Every problem is printed on stderr and
 // ends the run: exit 1 for the environment (no Vulkan, a platform without window surfaces such as offscreen, an
 // autosave newer than the project that a person must decide about, nothing rendered within
-// TYNDALL_SCREENSHOT_TIMEOUT seconds, default 600), exit 2 for a project that does not open.
+// TYNDALL_SCREENSHOT_TIMEOUT seconds, default 600), exit 2 for a project or an image that does not open.
+#include "image_file.h"
 #include "main_window.h"
 
 #include "tyndall/project.h"
@@ -27,6 +29,7 @@ int main(int argc, char** argv) {
     QString project = TYNDALL_DEFAULT_PROJECT;
     std::vector<std::string> overrides;
     QString screenshot;
+    QStringList images;
     const QStringList args = QApplication::arguments();
     for (int i = 1; i < args.size(); ++i) {
         if (args[i] == "--set" && i + 1 < args.size())
@@ -34,9 +37,12 @@ int main(int argc, char** argv) {
         else if (args[i] == "--screenshot" && i + 1 < args.size())
             screenshot = args[++i];
         else if (args[i] == "--help") {
-            std::printf("usage: tyndall-studio [project.json] [--set path=value ...] [--screenshot file.png]\n");
+            std::printf("usage: tyndall-studio [project.json] [image.exr|.hdr|.png ...] [--set path=value ...] "
+                        "[--screenshot file.png]\n");
             return 0;
-        } else
+        } else if (tyndall::studio::isImageFile(args[i]))
+            images << args[i];
+        else
             project = args[i];
     }
     const bool interactive = screenshot.isEmpty();
@@ -79,6 +85,12 @@ int main(int argc, char** argv) {
     if (!window.openProject(project, interactive)) {
         if (!interactive) std::fprintf(stderr, "tyndall-studio: cannot open %s\n", qPrintable(project));
         return 2;
+    }
+    for (const QString& image : images) {
+        QString error;
+        if (window.openImageView(image, &error) >= 0) continue;
+        fail(error);
+        if (!interactive) return 2;
     }
     QTimer poll;
     QTimer deadline;

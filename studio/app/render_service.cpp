@@ -6,6 +6,7 @@
 
 #include <QMetaObject>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 
@@ -49,18 +50,27 @@ void RenderService::submit(RenderTask task) {
         for (auto it = queue_.begin(); it != queue_.end();)
             it = (it->view == task.view && it->reference == task.reference) ? queue_.erase(it) : it + 1;
         if (running_ && runningView_ == task.view && runningReference_ == task.reference) cancel_ = true;
-        // An edit comes first: a running reference steps aside and starts again afterwards.
-        if (running_ && runningReference_ && !task.reference && !cancel_) {
+        // An edit comes first: a running task of a later class steps aside and starts again afterwards.
+        const int running = runningReference_ ? 2 : runningSlow_ ? 1 : 0;
+        if (running_ && !cancel_ && classOf(task) < running) {
             cancel_ = true;
             requeueRunning_ = true;
         }
-        if (task.reference)
-            queue_.push_back(std::move(task));
-        else
-            queue_.push_front(std::move(task));
+        enqueue(std::move(task));
     }
     wake_.notify_all();
     emit idleChanged(false);
+}
+
+int RenderService::classOf(const RenderTask& task) {
+    return task.reference ? 2 : task.slow ? 1 : 0;
+}
+
+void RenderService::enqueue(RenderTask task) {
+    // Before the first task of its class or a later one: newest first within the class.
+    const int c = classOf(task);
+    auto at = std::find_if(queue_.begin(), queue_.end(), [c](const RenderTask& t) { return classOf(t) >= c; });
+    queue_.insert(at, std::move(task));
 }
 
 void RenderService::cancelAll() {
@@ -102,12 +112,13 @@ void RenderService::run() {
             std::unique_lock lock(mutex_);
             wake_.wait(lock, [&] { return quit_ || !queue_.empty(); });
             if (quit_) return;
-            // Technique views first (they sit at the front), then references.
+            // The queue is in order: fast views, slow views, references.
             task = std::make_shared<RenderTask>(std::move(queue_.front()));
             queue_.pop_front();
             running_ = true;
             runningView_ = task->view;
             runningReference_ = task->reference;
+            runningSlow_ = task->slow;
             runningTask_ = task;
             cancel_ = false;
             requeueRunning_ = false;
@@ -157,11 +168,17 @@ void RenderService::run() {
             running_ = false;
             runningTask_.reset();
             if (cancelled && requeueRunning_ && !quit_) {
-                // The interrupted reference starts again once the edit's renders are done.
+                // The interrupted task starts again once the edit's renders are done (oldest of its class: after the
+                // tasks queued meanwhile, which are newer).
                 bool replaced = false;
                 for (const RenderTask& t : queue_)
                     replaced |= t.view == task->view && t.reference == task->reference;
-                if (!replaced) queue_.push_back(*task);
+                if (!replaced) {
+                    const int c = classOf(*task);
+                    auto at = std::find_if(queue_.begin(), queue_.end(),
+                                           [c](const RenderTask& t) { return classOf(t) > c; });
+                    queue_.insert(at, *task);
+                }
             }
             nowIdle = queue_.empty();
         }

@@ -1,8 +1,13 @@
-// Renders views and references off the GUI thread. One worker runs one job at a time: technique views before
-// references, newest first. A new task for a view (or its reference) replaces the queued one and cancels the running
-// one, so stale results are dropped rather than shown; a technique task also interrupts a running reference, which
-// goes back to the queue, so that the two cores serve the edit first. Outputs (progressive images and the final one)
-// arrive on the GUI thread through `output`.
+// Renders views and references off the GUI thread. One worker runs one job at a time, in three classes: fast technique
+// views (the analytic and GPU techniques, ~0.1-1 s), then slow ones (progressive: the path tracer as a view, which may
+// render for minutes), then references; newest first within a class. A new task for a view (or its reference)
+// replaces the queued one and cancels the running one, so stale results are dropped rather than shown. A task of an
+// earlier class interrupts a running one of a later class (a fast view a slow view or a reference, a slow view a
+// reference), which goes back to the queue and starts again afterwards: the two cores serve the edit first. Outputs
+// (progressive images and the final one) arrive on the GUI thread through `output`.
+//
+// One worker, not one per device: here the GPU is lavapipe, which renders on the same two cores as the CPU techniques,
+// so running a GPU view beside a CPU reference would only halve the speed of both (docs/architecture.md, "The studio").
 #pragma once
 
 #include "tyndall/render.h"
@@ -28,6 +33,7 @@ void lowerCurrentThreadPriority(int nice);
 struct RenderTask {
     int view = 0;
     bool reference = false;
+    bool slow = false;       // a technique view that renders progressively for long (its class above)
     quint64 generation = 0;  // increases with every edit; outputs of older generations are stale
     quint64 state = 0;       // the state of the view's part of the scene it renders (images of one state compare)
     std::shared_ptr<RenderJob> job;
@@ -66,6 +72,8 @@ signals:
 private:
     void run();
     void post(RenderOutput out);
+    static int classOf(const RenderTask& task);  // 0 fast view, 1 slow view, 2 reference
+    void enqueue(RenderTask task);               // at its class's place (mutex_ held)
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;
@@ -73,6 +81,7 @@ private:
     bool running_ = false;
     int runningView_ = -1;
     bool runningReference_ = false;
+    bool runningSlow_ = false;
     std::shared_ptr<RenderTask> runningTask_;
     std::atomic<bool> cancel_{false};
     bool requeueRunning_ = false;

@@ -1,5 +1,8 @@
 # Runs tyndall-studio non-interactively and checks that it ends by itself with the expected exit code and message.
 #   -DSTUDIO=path -DPROJECT=path -DEXPECT_CODE=n -DEXPECT_REGEX=re -DWORK_DIR=dir [-DSTALE_AUTOSAVE=ON] [-DXVFB_RUN=path]
+#   [-DIMAGE=file -DIMAGE_NAME=name.exr] [-DEXTRA_ARGS=a;b;...] [-DEXPECT_SHOT=ON]
+# IMAGE is copied to WORK_DIR/IMAGE_NAME and given on the command line (an image view); EXPECT_SHOT: the run must
+# write its screenshot (otherwise it must not).
 # With STALE_AUTOSAVE the project is copied to WORK_DIR and an autosave newer than it is planted where the studio
 # looks (XDG_DATA_HOME/Tyndall/Tyndall Studio/autosave, MainWindow::autosavePath).
 file(REMOVE_RECURSE ${WORK_DIR})
@@ -17,11 +20,18 @@ if(STALE_AUTOSAVE)
   file(READ ${PROJECT} text)
   file(WRITE ${autosave} "${text}")
 endif()
-set(command ${STUDIO} ${project} --screenshot ${WORK_DIR}/shot.png)
+set(images)
+if(IMAGE)
+  file(COPY_FILE ${IMAGE} ${WORK_DIR}/${IMAGE_NAME})
+  set(images ${WORK_DIR}/${IMAGE_NAME})
+elseif(IMAGE_NAME)
+  set(images ${WORK_DIR}/${IMAGE_NAME})  # a file that does not exist
+endif()
+set(command ${STUDIO} ${project} ${images} ${EXTRA_ARGS} --screenshot ${WORK_DIR}/shot.png)
 if(XVFB_RUN)
   set(command ${XVFB_RUN} -a -s "-screen 0 1280x800x24" ${command})
 endif()
-execute_process(COMMAND ${command} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+execute_process(COMMAND ${command} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 240)
 message("exit ${code}\n${out}${err}")
 if(NOT code STREQUAL "${EXPECT_CODE}")
   message(FATAL_ERROR "expected exit ${EXPECT_CODE}, got ${code}")
@@ -29,7 +39,9 @@ endif()
 if(NOT "${out}${err}" MATCHES "${EXPECT_REGEX}")
   message(FATAL_ERROR "expected a message matching '${EXPECT_REGEX}'")
 endif()
-if(EXISTS ${WORK_DIR}/shot.png)
+if(EXPECT_SHOT AND NOT EXISTS ${WORK_DIR}/shot.png)
+  message(FATAL_ERROR "no screenshot was written")
+elseif(NOT EXPECT_SHOT AND EXISTS ${WORK_DIR}/shot.png)
   message(FATAL_ERROR "a screenshot was written although the run failed")
 endif()
 if(STALE_AUTOSAVE AND NOT EXISTS ${autosave})

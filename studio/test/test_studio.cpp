@@ -33,6 +33,10 @@
 #include <QTableWidget>
 #include <QStatusBar>
 #include <QTabWidget>
+#include <QMimeData>
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QUrl>
 #include <QTest>
 #include <QThreadPool>
 #include <QTimer>
@@ -738,6 +742,205 @@ private slots:
         QVERIFY(!window_->session().project().views[1].parameters.contains("raySamples"));
         watcher.stop();
         window_->setRecovery(MainWindow::Recovery::Never);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+    }
+
+    // Snapshots belong to the project: saving writes them beside it ("<project>.snapshots/"), and a studio that opens
+    // the project gets them back, images, parameters and views, ready to compare against. A broken snapshot index
+    // says why and the project opens without them.
+    void savesSnapshotsWithTheProject() {
+        const QString dir = QString(TYNDALL_TEST_TMP) + "/snapshots";
+        QDir(dir).removeRecursively();
+        QDir().mkpath(dir);
+        const QString path = dir + "/room.json";
+        QVERIFY(QFile::copy(kDefaultProject, path));
+        QFile::setPermissions(path, QFile::ReadOwner | QFile::WriteOwner);
+        window_->setRecovery(MainWindow::Recovery::Never);
+        QVERIFY(window_->openProject(path, false));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        window_->selectView(1);
+        QCOMPARE(window_->takeSnapshot(), 0);
+        window_->session().setParameter(1, "raySamples", std::int64_t(3));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        QCOMPARE(window_->takeSnapshot(), 1);
+        QString error;
+        QVERIFY2(window_->saveProject(&error), qPrintable(error));
+        const QString folder = SnapshotStore::folderOf(path);
+        QCOMPARE(folder, dir + "/room.snapshots");
+        QVERIFY(QFile::exists(folder + "/snapshots.json"));
+
+        MainWindow second(vulkan_, kSmall);
+        second.setRecovery(MainWindow::Recovery::Never);
+        QVERIFY(second.openProject(path, false));
+        QCOMPARE(second.snapshots().size(), std::size_t(2));
+        for (std::size_t i = 0; i < 2; ++i) {
+            const Snapshot &saved = window_->snapshots()[i], &loaded = second.snapshots()[i];
+            QCOMPARE(loaded.name, saved.name);
+            QCOMPARE(loaded.view, 1);
+            QVERIFY(loaded.parameters == saved.parameters);
+            QCOMPARE(loaded.exposure, saved.exposure);
+            QVERIFY(samePixels(*loaded.image, *saved.image));
+        }
+        QVERIFY(second.snapshots()[1].parameters["raySamples"] == nlohmann::json(3));
+        second.compareWithSnapshot(0);
+        QVERIFY(second.frames()[1].snapshot == second.snapshots()[0].image);
+        QTRY_VERIFY_WITH_TIMEOUT(second.settled(), 120000);
+
+        {
+            QFile index(folder + "/snapshots.json");
+            QVERIFY(index.open(QIODevice::WriteOnly | QIODevice::Truncate));
+            index.write("{\"tyndallSnapshots\": 1, \"snapshots\": [{\"name\": 3}]}");
+        }
+        MainWindow third(vulkan_, kSmall);
+        third.setRecovery(MainWindow::Recovery::Never);
+        QVERIFY(third.openProject(path, false));
+        QVERIFY(third.snapshots().empty());
+        const QString message = third.statusBar()->currentMessage();
+        QVERIFY2(message.contains("snapshots.json") && message.contains("snapshots[0]"), qPrintable(message));
+        QTRY_VERIFY_WITH_TIMEOUT(third.settled(), 120000);
+        window_->session().undoStack()->undo();
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+    }
+
+    // Scheduling: a fast technique's render does not wait behind a slow, progressive one (the path tracer as a view):
+    // the slow render steps aside, the fast one finishes first, and the slow one starts again and finishes.
+    void fastViewsGoBeforeSlowOnes() {
+        const Project project = loadProject(kDefaultProject.toStdString(), kSmall);
+        JobOptions slowOptions;
+        slowOptions.spp = 4096;  // minutes at full speed: it must be interrupted to let the fast view through
+        RenderService service;
+        std::vector<int> finals;
+        int slowImages = 0;
+        connect(&service, &RenderService::output, [&](const RenderOutput& out) {
+            if (out.view == 0 && !out.final && out.image) ++slowImages;
+            if (out.final) finals.push_back(out.error.isEmpty() ? out.view : -1 - out.view);
+        });
+        RenderTask slow;
+        slow.view = 0;  // "everything", the path tracer
+        slow.slow = true;
+        slow.generation = 1;
+        slow.job = std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "everything", slowOptions));
+        RenderTask fast;
+        fast.view = 1;  // "light shaft", WVDS
+        fast.generation = 2;
+        fast.job = std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "light shaft"));
+        service.submit(slow);
+        QTRY_VERIFY_WITH_TIMEOUT(slowImages > 0, 60000);  // the slow render is running
+        service.submit(fast);
+        QTRY_VERIFY_WITH_TIMEOUT(!finals.empty(), 60000);
+        QCOMPARE(finals.front(), 1);
+        // The slow one went back to the queue: it runs again (from zero) once the fast one is done.
+        const int before = slowImages;
+        QTRY_VERIFY_WITH_TIMEOUT(slowImages > before, 60000);
+        QVERIFY(!service.idle());
+        service.cancelAll();
+        QTRY_VERIFY_WITH_TIMEOUT(service.idle(), 60000);
+    }
+
+    // Images from other programs are views (tev-like): an EXR of view 0's reference, opened as a file, compares with
+    // that reference at relMSE 0 and with another view's reference at once when chosen; it can be every view's
+    // comparand (Shift+N); a PNG is decoded from display values; dropped files open; Remove closes an image; images
+    // stay through a scene edit; a file that is missing or not an image says why.
+    void opensImagesAsViews() {
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        const QString dir = QString(TYNDALL_TEST_TMP) + "/images";
+        QDir(dir).removeRecursively();
+        QDir().mkpath(dir);
+        const int n = int(window_->frames().size());
+        const std::shared_ptr<const Image> reference = window_->frames()[0].reference, shaft = window_->frames()[1].image;
+        QVERIFY(reference && shaft);
+        writeImage(*reference, (dir + "/room.exr").toStdString());
+        writeImage(*shaft, (dir + "/shaft.png").toStdString());
+        QString error;
+        QCOMPARE(window_->openImageView(dir + "/room.exr", &error), n);
+        QCOMPARE(int(window_->frames().size()), n + 1);
+        QCOMPARE(window_->compositorState().current, n);  // the new view is selected
+        {
+            const ViewFrame& f = window_->frames()[std::size_t(n)];
+            QVERIFY(f.file);
+            QCOMPARE(f.name, QString("room.exr"));
+            QVERIFY(f.reference == reference);
+            QVERIFY(samePixels(*f.image, *reference));
+        }
+        QTRY_VERIFY(window_->frames()[std::size_t(n)].metrics);
+        QCOMPARE(window_->frames()[std::size_t(n)].metrics->relMSE, 0.0);
+        auto* against = window_->findChild<QComboBox*>("imageAgainst");
+        QVERIFY(against && against->isVisibleTo(window_.get()));
+        QCOMPARE(against->count(), n);
+        against->setCurrentIndex(1);
+        emit against->activated(1);  // the light shaft's part: the room's image is far from it
+        QVERIFY(window_->frames()[std::size_t(n)].reference == window_->frames()[1].reference);
+        QTRY_VERIFY(window_->frames()[std::size_t(n)].metrics && window_->frames()[std::size_t(n)].metrics->relMSE > 0.01);
+
+        // The image as every view's comparand.
+        window_->chooseReferenceView(n);
+        QVERIFY(window_->frames()[0].alternate == window_->frames()[std::size_t(n)].image);
+        QTRY_VERIFY(window_->frames()[0].metrics);
+        window_->chooseReferenceView(-1);
+
+        // A PNG holds display values: decoded with the sRGB curve, to within 8 bits of the clipped original.
+        const int png = window_->openImageView(dir + "/shaft.png", &error);
+        QCOMPARE(png, n + 1);
+        const ViewFrame& p = window_->frames()[std::size_t(png)];
+        QVERIFY2(p.technique.contains("sRGB decoded"), qPrintable(p.technique));
+        double worst = 0.0;
+        for (int y = 0; y < shaft->height(); ++y)
+            for (int x = 0; x < shaft->width(); ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const double original = std::min(1.0, double(shaft->at(x, y, c)));
+                    if (original < 0.05) continue;  // 8 bits near black are coarse in linear terms
+                    worst = std::max(worst, std::abs(p.image->at(x, y, c) - original) / original);
+                }
+        QVERIFY2(worst < 0.03, qPrintable(QString::number(worst)));
+
+        // Dropped on the window.
+        QMimeData mime;
+        mime.setUrls({QUrl::fromLocalFile(dir + "/room.exr")});
+        QDragEnterEvent enter(QPoint(20, 20), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+        QApplication::sendEvent(window_.get(), &enter);
+        QVERIFY(enter.isAccepted());
+        QDropEvent drop(QPointF(20, 20), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+        QApplication::sendEvent(window_.get(), &drop);
+        QCOMPARE(int(window_->frames().size()), n + 3);
+
+        // The grid shows every view, the images too.
+        window_->setLayoutMode(Layout::Grid);
+        const std::vector<QRect> rects = viewRects(window_->frames(), window_->compositorState(), QSize(900, 600));
+        QCOMPARE(int(rects.size()), n + 3);
+        QVERIFY(!rects.back().isEmpty());
+
+        // Images stay through a scene edit, and Remove closes one.
+        QVERIFY(window_->session().editScene({"camera.fovY=51"}, "fov", &error));
+        QCOMPARE(int(window_->frames().size()), n + 3);
+        window_->selectView(n + 2);
+        QPushButton* remove = nullptr;
+        for (QPushButton* b : window_->findChildren<QPushButton*>())
+            if (b->text() == "Remove") remove = b;
+        QVERIFY(remove);
+        remove->click();
+        QCOMPARE(int(window_->frames().size()), n + 2);
+
+        QCOMPARE(window_->openImageView(dir + "/missing.exr", &error), -1);
+        QVERIFY2(error.contains("missing.exr"), qPrintable(error));
+        QCOMPARE(window_->openImageView(kDefaultProject, &error), -1);
+        QVERIFY2(error.contains("not an image"), qPrintable(error));
+
+        // An image of another size cannot be compared: the tile and the metrics dock say why instead of "waiting".
+        const int small = window_->openImageView(TYNDALL_SOURCE_DIR "/tests/data/images/glow-16x12.exr", &error);
+        QVERIFY2(small == n + 2, qPrintable(error));
+        // (Once the reference of the edited camera is in: the file stands for the current state.)
+        QTRY_COMPARE_WITH_TIMEOUT(incomparable(window_->frames()[std::size_t(small)]),
+                                  QString("sizes differ: 16 x 12 against 96 x 72"), 120000);
+        auto* table = window_->findChild<QTableWidget*>("metrics");
+        QTRY_COMPARE(table->item(small, 0)->text(), QString("sizes differ: 16 x 12 against 96 x 72"));
+        remove->click();
+
+        window_->session().undoStack()->undo();
+        for (int view = n + 1; view >= n; --view) {
+            window_->selectView(view);
+            remove->click();
+        }
+        QCOMPARE(int(window_->frames().size()), n);
         QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
     }
 

@@ -1,0 +1,301 @@
+#include "render_scheduler.h"
+
+#include "trace.h"
+
+#include "tyndall/image_io.h"
+
+#include <QCryptographicHash>
+#include <QDir>
+#include <QFile>
+#include <QFileInfo>
+#include <QStandardPaths>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+
+namespace tyndall::studio {
+
+namespace {
+
+// References restart this long after the last edit of their part.
+constexpr int kDebounceMs = 300;
+
+// What a view's render depends on in the scene: the camera, the surfaces and its part's lights and media, as JSON.
+std::string partKeyOf(const Project& project, const View& view) {
+    nlohmann::json j = projectToJson(project);
+    ScenePart part;
+    try {
+        part = resolvePart(project, view);
+    } catch (const std::exception&) {
+        return j.dump();
+    }
+    nlohmann::json key = {{"camera", j["camera"]}, {"meshes", j.value("meshes", nlohmann::json())},
+                          {"materials", j.value("materials", nlohmann::json())}, {"reference", j["reference"]}};
+    for (const char* group : {"lights", "media", "particleMedia"}) {
+        if (!j.contains(group)) continue;
+        const std::vector<std::string>& names = std::string(group) == "lights" ? part.lights : part.media;
+        for (const auto& e : j[group])
+            if (std::find(names.begin(), names.end(), e.value("name", "")) != names.end()) key[group].push_back(e);
+    }
+    return key.dump();
+}
+
+std::string viewKeyOf(const View& view) {
+    return view.parameters.dump() + "/" + std::to_string(view.exposure);
+}
+
+// The state of a view's part of the scene, from its part key: images of one state are comparable.
+quint64 stateOfKey(const std::string& partKey) {
+    const QByteArray hash = QCryptographicHash::hash(QByteArray::fromStdString(partKey), QCryptographicHash::Sha1);
+    quint64 state = 0;
+    for (int i = 0; i < 8; ++i)
+        state = (state << 8) | quint8(hash[i]);
+    return state == 0 ? 1 : state;  // 0 means "no image"
+}
+
+QString stateName(quint64 state) {
+    return QString("%1").arg(state, 16, 16, QLatin1Char('0'));
+}
+
+}  // namespace
+
+RenderScheduler::RenderScheduler(Session& session, Background& background, QObject* parent)
+    : QObject(parent), session_(session), background_(background) {
+    service_ = new RenderService(this);
+    connect(service_, &RenderService::output, this, &RenderScheduler::onOutput);
+    debounce_.setSingleShot(true);
+    debounce_.setInterval(kDebounceMs);
+    // References restart once the edits of their part pause (a drag would otherwise restart them at every step).
+    connect(&debounce_, &QTimer::timeout, this, [this] {
+        for (int view : dirtyParts_)
+            render(view, true);
+        dirtyParts_.clear();
+    });
+}
+
+RenderScheduler::~RenderScheduler() { service_->cancelAll(); }
+
+std::string RenderScheduler::viewsKey() const {
+    std::string key;
+    for (const View& v : session_.project().views) key += v.name + "\n" + v.technique + "\n";
+    return key;
+}
+
+bool RenderScheduler::viewsChanged() const { return viewsKey() != viewsKey_; }
+
+quint64 RenderScheduler::state(int view) const {
+    return view >= 0 && view < int(states_.size()) ? states_[std::size_t(view)] : 0;
+}
+
+void RenderScheduler::reset() {
+    service_->cancelAll();
+    const Project& project = session_.project();
+    const std::size_t n = project.views.size();
+    viewsKey_ = viewsKey();
+    partKeys_.clear();
+    viewKeys_.clear();
+    states_.clear();
+    for (const View& v : project.views) {
+        partKeys_.push_back(partKeyOf(project, v));
+        viewKeys_.push_back(viewKeyOf(v));
+        states_.push_back(stateOfKey(partKeys_.back()));
+    }
+    generation_.assign(n, 0);
+    referenceGeneration_.assign(n, 0);
+    pending_.assign(n, false);
+    referencePending_.assign(n, false);
+    progressive_.assign(n, false);
+    shownState_.assign(n, 0);
+    dirtyViews_.clear();
+    dirtyParts_.clear();
+    debounce_.stop();
+}
+
+void RenderScheduler::renderAll() {
+    for (int i = 0; i < int(states_.size()); ++i)
+        render(i, false);
+    for (int i = 0; i < int(states_.size()); ++i)
+        render(i, true);
+}
+
+void RenderScheduler::cancelAll() { service_->cancelAll(); }
+
+void RenderScheduler::viewEdited(int view) {
+    if (view < 0 || view >= int(viewKeys_.size())) return;
+    viewKeys_[std::size_t(view)] = viewKeyOf(session_.project().views[std::size_t(view)]);
+    dirtyViews_.insert(view);
+    flushDirty();
+}
+
+void RenderScheduler::sceneEdited() {
+    const Project& project = session_.project();
+    for (int i = 0; i < int(partKeys_.size()) && i < int(project.views.size()); ++i) {
+        const View& view = project.views[std::size_t(i)];
+        const std::string viewKey = viewKeyOf(view);
+        if (viewKey != viewKeys_[std::size_t(i)]) {
+            viewKeys_[std::size_t(i)] = viewKey;
+            dirtyViews_.insert(i);
+        }
+        const std::string key = partKeyOf(project, view);
+        if (key == partKeys_[std::size_t(i)]) continue;
+        partKeys_[std::size_t(i)] = key;
+        states_[std::size_t(i)] = stateOfKey(key);
+        emit stateChanged(i, states_[std::size_t(i)]);
+        dirtyViews_.insert(i);
+        dirtyParts_.insert(i);
+    }
+    flushDirty();
+    if (!dirtyParts_.empty()) debounce_.start();
+}
+
+void RenderScheduler::render(int view, bool reference) {
+    const Project& project = session_.project();
+    const View& v = project.views[std::size_t(view)];
+    RenderTask task;
+    task.view = view;
+    task.reference = reference;
+    // The path tracer as a view, or any technique that sent progressive images, may render for minutes.
+    task.slow = !reference && (progressive_[std::size_t(view)] || v.technique == "reference");
+    task.generation = nextGeneration_++;
+    task.state = states_[std::size_t(view)];
+    try {
+        task.job = std::make_shared<RenderJob>(reference ? makeReferenceJob(project, session_.path().toStdString(), v.name)
+                                                         : makeViewJob(project, session_.path().toStdString(), v.name));
+        // Every image carries the state of its part (exports pair a view with its reference by it).
+        task.job->metadata["partHash"] = stateName(task.state).toStdString();
+    } catch (const std::exception& e) {
+        emit failed(view, QString::fromStdString(e.what()));
+        return;
+    }
+    (reference ? referenceGeneration_ : generation_)[std::size_t(view)] = task.generation;
+    (reference ? referencePending_ : pending_)[std::size_t(view)] = true;
+    emit started(view, reference, task.job->request.spp);
+    if (!reference) {
+        trace("view %d: job made", view);
+        service_->submit(std::move(task));
+        return;
+    }
+    // A finished reference of exactly this part of the scene may be on disk already.
+    const QString cached = referenceCachePath(view);
+    cachePathOf_[task.generation] = cached;
+    if (QFile::exists(cached)) {
+        // Read in the background (an EXR of 512 x 512 takes ~10 ms, more while renders run); an unreadable file is
+        // removed and the reference rendered after all.
+        service_->cancelReference(view);
+        background_.run([this, task, cached] {
+            RenderOutput out;
+            out.view = task.view;
+            out.reference = true;
+            out.generation = task.generation;
+            out.state = task.state;
+            try {
+                auto image = std::make_shared<Image>(readImage(cached.toStdString()));
+                out.spp = image->metadata.count("spp") ? std::atoi(image->metadata.at("spp").c_str()) : 0;
+                out.image = std::move(image);
+                out.final = true;
+                out.cached = true;
+            } catch (const std::exception&) {
+                QFile::remove(cached);
+                QMetaObject::invokeMethod(this, [this, task] {
+                    if (std::size_t(task.view) < referenceGeneration_.size() &&
+                        task.generation == referenceGeneration_[std::size_t(task.view)])
+                        service_->submit(task);
+                }, Qt::QueuedConnection);
+                return;
+            }
+            QMetaObject::invokeMethod(this, [this, out] { onOutput(out); }, Qt::QueuedConnection);
+        });
+        return;
+    }
+    service_->submit(std::move(task));
+}
+
+QString RenderScheduler::referenceCacheFolder() {
+    return QStandardPaths::writableLocation(QStandardPaths::CacheLocation) + "/references";
+}
+
+QString RenderScheduler::referenceCachePath(int view) const {
+    // Everything the reference's image depends on: its part of the scene, the reference settings (in the part key),
+    // where relative files resolve, and the renderer's version.
+    const std::string key = partKeyOf(session_.project(), session_.project().views[std::size_t(view)]) + "|" +
+                            QFileInfo(session_.path()).absolutePath().toStdString() + "|" + tyndallVersion();
+    const QByteArray hash = QCryptographicHash::hash(QByteArray::fromStdString(key), QCryptographicHash::Sha1).toHex();
+    return referenceCacheFolder() + "/" + QString::fromLatin1(hash) + ".exr";
+}
+
+void RenderScheduler::flushDirty() {
+    // While the animation plays, a progressive view (the path tracer as a view, whose render may take minutes) is not
+    // waited for: play advances only once it has shown an image of its state, and then its render in flight is
+    // replaced at once.
+    if (animating_) {
+        for (auto it = dirtyViews_.begin(); it != dirtyViews_.end();) {
+            if (!progressive_[std::size_t(*it)]) {
+                ++it;
+                continue;
+            }
+            const int view = *it;
+            it = dirtyViews_.erase(it);
+            render(view, false);
+        }
+    }
+    for (auto it = dirtyViews_.begin(); it != dirtyViews_.end();) {
+        if (pending_[std::size_t(*it)]) {
+            ++it;
+            continue;
+        }
+        const int view = *it;
+        it = dirtyViews_.erase(it);
+        render(view, false);
+    }
+}
+
+bool RenderScheduler::settled() const {
+    for (bool p : pending_)
+        if (p) return false;
+    for (bool p : referencePending_)
+        if (p) return false;
+    return service_->idle() && dirtyViews_.empty() && dirtyParts_.empty() && !debounce_.isActive();
+}
+
+bool RenderScheduler::viewsCaughtUp() const {
+    for (std::size_t i = 0; i < pending_.size(); ++i) {
+        if (dirtyViews_.count(int(i))) return false;
+        if (!pending_[i]) continue;
+        // A progressive view has caught up once it shows a pass of the current state.
+        if (progressive_[i] && shownState_[i] == states_[i]) continue;
+        return false;
+    }
+    return true;
+}
+
+void RenderScheduler::onOutput(const RenderOutput& out) {
+    trace("%s %d: image received (%d spp)", out.reference ? "reference" : "view", out.view, out.spp);
+    if (out.view < 0 || out.view >= int(pending_.size())) return;
+    const std::vector<quint64>& generations = out.reference ? referenceGeneration_ : generation_;
+    if (out.generation != generations[std::size_t(out.view)]) return;  // stale: a newer render is on its way
+    const std::size_t v = std::size_t(out.view);
+    if (!out.reference && !out.final && out.image) progressive_[v] = true;
+    if (!out.reference && out.image) shownState_[v] = out.state;
+    if (out.reference && out.error.isEmpty()) {
+        // A finished reference goes to the disk cache, written in the pool (an EXR of 512 x 512 takes ~0.2 s),
+        // atomically, so that a reader never sees half of it.
+        const auto path = cachePathOf_.find(out.generation);
+        if (out.final && !out.cached && path != cachePathOf_.end() && out.image) {
+            QDir().mkpath(referenceCacheFolder());
+            background_.run([image = out.image, file = path->second.toStdString()] {
+                try {
+                    writeImage(*image, file);
+                } catch (const std::exception&) {
+                    // A cache that cannot be written costs a render next time, nothing else.
+                }
+            });
+        }
+    }
+    if (out.reference && out.final) cachePathOf_.erase(out.generation);
+    if (out.final) (out.reference ? referencePending_ : pending_)[v] = false;
+    emit output(out);
+    if (!out.reference && out.final && dirtyViews_.count(out.view)) QTimer::singleShot(0, this, [this] { flushDirty(); });
+}
+
+}  // namespace tyndall::studio

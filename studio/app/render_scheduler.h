@@ -1,0 +1,91 @@
+// What renders when: the studio's render orchestration between the session's project and the comparison model.
+//
+// Each view's render depends on its part of the scene (the camera, the surfaces, its lights and media, the reference
+// settings): the part key, hashed into the part's state. A view's own edit (parameters, exposure) re-renders the view
+// alone, at once when it is not rendering and otherwise when its render in flight is done, so that a drag shows a new
+// image at the rate the technique renders and the last state always renders. An edit of a part re-renders the views
+// of that part and, once the edits pause (a debounce), their references. Finished references are cached on disk by
+// the hash of what they render, so that reopening a project does not start from zero. Every task carries a generation;
+// outputs of older generations are dropped here, and what passes goes out through `output` in order.
+#pragma once
+
+#include "background.h"
+#include "render_service.h"
+#include "session.h"
+
+#include <QObject>
+#include <QTimer>
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace tyndall::studio {
+
+class RenderScheduler : public QObject {
+    Q_OBJECT
+public:
+    RenderScheduler(Session& session, Background& background, QObject* parent = nullptr);
+    ~RenderScheduler() override;
+
+    // The project's views as they are now: cancels and forgets every render (the parts' states are known after it).
+    void reset();
+    // Renders every view, then every reference.
+    void renderAll();
+    // The views' list changed (added, removed, renamed, another technique): reset() is needed.
+    bool viewsChanged() const;
+    // An edit of view `view`'s parameters or exposure.
+    void viewEdited(int view);
+    // An edit of the scene: the views whose part changed (stateChanged) render again, and their references once the
+    // edits pause; views whose parameters changed (a whole project replaced: recovery, or its undo) render alone.
+    void sceneEdited();
+    void cancelAll();
+
+    quint64 state(int view) const;  // of the view's part: images of one state compare (never 0)
+    // While the animation plays, a progressive view's render in flight is replaced at once by the next frame's.
+    void setAnimating(bool animating) { animating_ = animating; }
+    // Every view shows (or is done with) the current state: the animation may advance.
+    bool viewsCaughtUp() const;
+    // Nothing is queued, running or waiting for its debounce.
+    bool settled() const;
+
+    static QString referenceCacheFolder();
+    QString referenceCachePath(int view) const;
+    RenderService& service() { return *service_; }
+
+signals:
+    // A render was submitted (targetSpp: what it renders to; a reference's) or could not be made (the job's error).
+    void started(int view, bool reference, int targetSpp);
+    void failed(int view, const QString& error);
+    // An image (progressive or final) or a failure of the current generation.
+    void output(const tyndall::studio::RenderOutput& out);
+    void stateChanged(int view, quint64 state);
+
+private:
+    void render(int view, bool reference);
+    void flushDirty();
+    void onOutput(const RenderOutput& out);
+    std::string viewsKey() const;
+
+    Session& session_;
+    Background& background_;
+    RenderService* service_ = nullptr;
+    std::string viewsKey_;                 // the views' names and techniques when restart() ran
+    std::vector<std::string> partKeys_;    // per view
+    std::vector<std::string> viewKeys_;    // each view's parameters and exposure
+    std::vector<quint64> states_;
+    std::vector<quint64> generation_, referenceGeneration_;
+    std::vector<bool> pending_;            // a technique render of the view is queued or running
+    std::vector<bool> referencePending_;   // so is a reference render
+    std::vector<bool> progressive_;        // the view's technique sent a progressive image (it may render for long)
+    std::vector<quint64> shownState_;      // the state of the view's latest image
+    std::set<int> dirtyViews_;             // edited views waiting for their render in flight to finish
+    std::set<int> dirtyParts_;             // views whose references restart after the debounce
+    std::map<quint64, QString> cachePathOf_;  // reference renders in flight: where their result is cached
+    QTimer debounce_;
+    quint64 nextGeneration_ = 1;
+    bool animating_ = false;
+};
+
+}  // namespace tyndall::studio
