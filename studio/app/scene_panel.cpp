@@ -2,6 +2,7 @@
 
 #include "animation.h"
 
+#include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QHBoxLayout>
@@ -10,6 +11,7 @@
 #include <QSignalBlocker>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <array>
 
 namespace tyndall::studio {
@@ -32,6 +34,25 @@ QDoubleSpinBox* integerSpinBox(double value) {
     spin->setDecimals(0);
     spin->setSingleStep(1.0);
     return spin;
+}
+
+// A medium's phase function: its type, and the parameters that type uses (g of hg and mix, a of mix, b of eddington).
+// A Legendre series is offered only to a medium that has one (its coefficients are edited in the file).
+template <typename Field>
+void addPhaseFields(std::vector<Field>& out, const nlohmann::json& medium, const std::string& prefix) {
+    const nlohmann::json phase = medium.value("phase", nlohmann::json::object());
+    const std::string type = phase.value("type", "isotropic");
+    QStringList types = {"isotropic", "hg", "mix", "rayleigh", "eddington", "hazy-mie", "murky-mie"};
+    if (type == "legendre") types << "legendre";
+    out.push_back({"", "phase", prefix + "phase.type", type, types});
+    const std::vector<std::pair<const char*, std::vector<std::string>>> uses = {
+        {"g", {"hg", "mix"}}, {"a", {"mix"}}, {"b", {"eddington"}}};
+    for (const auto& [key, types] : uses) {
+        if (std::find(types.begin(), types.end(), type) == types.end()) continue;
+        // A parameter the file leaves at its default is not written: the field shows the default.
+        const double fallback = std::string(key) == "a" ? 1.0 : 0.0;
+        out.push_back({"", QString("phase ") + key, prefix + "phase." + key, phase.value(key, fallback)});
+    }
 }
 
 }  // namespace
@@ -68,8 +89,21 @@ std::vector<ScenePanel::Field> ScenePanel::fields() const {
             const std::string prefix = std::string(group) + "[" + name + "].";
             for (const char* key : {"sigma_s", "sigma_a", "position", "direction", "intensity", "irradiance", "radiance"})
                 if (element.contains(key)) out.push_back({"", key, prefix + key, element[key]});
-            if (element.contains("phase") && element["phase"].contains("g"))
-                out.push_back({"", "phase g", prefix + "phase.g", element["phase"]["g"]});
+            if (std::string(group) == "media") addPhaseFields(out, element, prefix);
+        }
+    }
+    // Materials: the type, and the parameters it uses.
+    if (j.contains("materials")) {
+        for (const auto& element : j["materials"]) {
+            const std::string name = element.value("name", "");
+            out.push_back({QString::fromStdString("material: " + name), "", "", {}});
+            const std::string prefix = "materials[" + name + "].";
+            const std::string type = element.value("type", "diffuse");
+            out.push_back({"", "type", prefix + "type", type, {"diffuse", "ggx"}});
+            const std::vector<const char*> keys =
+                type == "ggx" ? std::vector<const char*>{"f0", "alpha", "alphaX", "alphaY"} : std::vector<const char*>{"albedo"};
+            for (const char* key : keys)
+                if (element.contains(key)) out.push_back({"", key, prefix + key, element[key]});
         }
     }
     // Particle media: the extinction and, once it has one (Animation > Play or Step creates it), the simulation.
@@ -79,6 +113,7 @@ std::vector<ScenePanel::Field> ScenePanel::fields() const {
             out.push_back({QString::fromStdString("particle medium: " + name), "", "", {}});
             const std::string prefix = "particleMedia[" + name + "].";
             if (element.contains("extinction")) out.push_back({"", "extinction", prefix + "extinction", element["extinction"]});
+            addPhaseFields(out, element, prefix);
             if (!element.contains("simulation")) continue;
             const nlohmann::json& sim = element["simulation"];
             for (const char* key : {"steps", "timeStep", "stiffness", "viscosity", "offset"})
@@ -109,7 +144,10 @@ void ScenePanel::refresh() {
     updating_ = false;
 }
 
-void ScenePanel::addField(const QString& label, const std::string& path, const nlohmann::json& value) {
+void ScenePanel::addField(const Field& field) {
+    const QString& label = field.label;
+    const std::string& path = field.path;
+    const nlohmann::json& value = field.value;
     const QString name = QString::fromStdString(path);
     auto commit = [this, path, name](const nlohmann::json& v) {
         QString error;
@@ -118,9 +156,25 @@ void ScenePanel::addField(const QString& label, const std::string& path, const n
         updating_ = false;
         lastError_ = ok ? QString() : error;
         status_->setText(ok ? QString() : "<font color=#d55e00>" + error.toHtmlEscaped() + "</font>");
-        if (!ok) refresh();  // back to the project's value
+        // Refused: back to the project's value. Accepted: the rows may change (a type's parameters), rebuilt from the
+        // event loop, never inside this field's own signal.
+        refresh();
     };
-    if (value.is_number()) {
+    if (value.is_string() && !field.choices.isEmpty()) {
+        auto* combo = new QComboBox;
+        combo->setObjectName("scene:" + name);
+        combo->addItems(field.choices);
+        combo->setCurrentText(QString::fromStdString(value.get<std::string>()));
+        // activated, not currentIndexChanged: only the user's choice is an edit, not the panel showing a value.
+        connect(combo, &QComboBox::activated, this, [this, commit, combo](int) {
+            if (!updating_) commit(combo->currentText().toStdString());
+        });
+        setters_[path] = [combo](const nlohmann::json& v) {
+            const QSignalBlocker block(combo);
+            combo->setCurrentText(QString::fromStdString(v.get<std::string>()));
+        };
+        form_->addRow(label, combo);
+    } else if (value.is_number()) {
         auto* spin = value.is_number_integer() ? integerSpinBox(value.get<double>()) : spinBox(value.get<double>());
         spin->setObjectName("scene:" + name);
         connect(spin, &QDoubleSpinBox::valueChanged, this, [this, commit](double v) {
@@ -167,7 +221,7 @@ void ScenePanel::rebuild() {
         if (f.path.empty())
             form_->addRow(new QLabel("<b>" + f.section.toHtmlEscaped() + "</b>"));
         else
-            addField(f.label, f.path, f.value);
+            addField(f);
     }
     // What a Ctrl+click's impulse pushes with: the studio's, not the project's (each impulse stores its own).
     if (animation_ && animation_->available()) {

@@ -1,6 +1,7 @@
-// The scene panel: the camera, every medium and every light as fields generated from the project's own JSON (numbers
-// and RGB triples), each edit an undoable, validated scene edit (Session::editScene) addressed by the CLI's --set
-// paths. An invalid value is refused with the reason in the panel, and the project stays as it was. Edits update the
+// The scene panel: the camera, every medium (its coefficients, its phase function's type and the parameters that type
+// uses), every light and every material (its type and the parameters that type uses) as fields generated from the
+// project's own JSON (numbers, RGB triples and choices), each edit an undoable, validated scene edit
+// (Session::editScene) addressed by the CLI's --set paths. An invalid value is refused with the reason in the panel, and the project stays as it was. Edits update the
 // fields in place; only a change of the rows (another project, a light added) rebuilds them, from the event loop.
 #pragma once
 
@@ -15,6 +16,7 @@ class QDoubleSpinBox;
 #include <string>
 #include <vector>
 
+class QComboBox;
 class QFormLayout;
 class QLabel;
 
@@ -35,10 +37,11 @@ private:
         QString label;
         std::string path;  // the --set path
         nlohmann::json value;
+        QStringList choices;  // a string field's allowed values (a combo box)
     };
     std::vector<Field> fields() const;  // the rows the project gives, in order
     void refresh();  // the rows' values in place when the rows are the same, else a rebuild from the event loop
-    void addField(const QString& label, const std::string& path, const nlohmann::json& value);
+    void addField(const Field& field);
 
     Session& session_;
     class Animation* animation_ = nullptr;

@@ -524,6 +524,53 @@ private slots:
         QVERIFY(samePixels(*window_->frames()[3].image, *before[3].image));
     }
 
+    // The Scene dock edits materials and phase functions: a material's type (its rows follow: albedo for diffuse, f0
+    // and roughness for ggx) and a medium's phase type (g shown only for the types that use it). Each is one undoable
+    // edit that re-renders the views it affects; a refused value says why.
+    void editsMaterialsAndPhaseFunctionsInTheSceneDock() {
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        const auto before = window_->frames();
+        const int undoIndex = window_->session().undoStack()->index();
+        auto* brass = window_->findChild<QComboBox*>("scene:materials[brass].type");
+        QVERIFY(brass);
+        QCOMPARE(brass->currentText(), QString("ggx"));
+        QVERIFY(window_->findChild<QWidget*>("scene:materials[brass].f0"));
+        QVERIFY(!window_->findChild<QWidget*>("scene:materials[brass].albedo"));
+        brass->setCurrentText("diffuse");
+        emit brass->activated(brass->currentIndex());
+        const auto material = [&](const std::string& name) {
+            for (const Material& m : window_->session().project().scene.materials)
+                if (m.name == name) return m;
+            return Material{};
+        };
+        QCOMPARE(int(material("brass").kind), int(Material::Kind::Diffuse));
+        QCOMPARE(window_->session().undoStack()->index(), undoIndex + 1);
+        // The rows follow the type (rebuilt from the event loop).
+        QTRY_VERIFY(window_->findChild<QWidget*>("scene:materials[brass].albedo"));
+        QVERIFY(!window_->findChild<QWidget*>("scene:materials[brass].f0"));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        QVERIFY(window_->frames()[0].image != before[0].image);  // the sphere is in every view's surfaces
+
+        auto* phase = window_->findChild<QComboBox*>("scene:media[fog].phase.type");
+        QVERIFY(phase);
+        QCOMPARE(phase->currentText(), QString("hg"));
+        QVERIFY(window_->findChild<QWidget*>("scene:media[fog].phase.g"));
+        phase->setCurrentText("rayleigh");
+        emit phase->activated(phase->currentIndex());
+        QCOMPARE(window_->session().project().scene.media[0].phase.kind, PhaseKind::Rayleigh);
+        QTRY_VERIFY(!window_->findChild<QWidget*>("scene:media[fog].phase.g"));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+
+        window_->session().undoStack()->undo();
+        QCOMPARE(window_->session().project().scene.media[0].phase.kind, PhaseKind::HenyeyGreenstein);
+        window_->session().undoStack()->undo();
+        QCOMPARE(int(material("brass").kind), int(Material::Kind::GGX));
+        QCOMPARE(window_->session().undoStack()->index(), undoIndex);
+        QTRY_VERIFY(window_->findChild<QWidget*>("scene:materials[brass].f0"));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        QVERIFY(samePixels(*window_->frames()[0].image, *before[0].image));
+    }
+
     // Staleness: after an edit of the lamp, the views whose part holds it (everything, glow) render again, their images
     // first and their references after the debounce. Meanwhile every comparison is made of an image and a reference
     // of one state (the images carry it as partHash): the metrics are those of that pair, marked stale, the status bar
@@ -1273,25 +1320,25 @@ private slots:
         }
         QVERIFY(disabled > 0);  // WVDS renders the sun and fog only
 
-        window_->selectView(2);  // the area light, path traced: everything can be chosen
+        window_->selectView(3);  // the glow, path traced: everything can be chosen
         boxes = partBoxes();
         QCheckBox* toggle = nullptr;
         for (QCheckBox* b : boxes)
             if (b->isEnabled() && !b->isChecked()) toggle = b;
         QVERIFY(toggle);
-        const quint64 state = window_->frames()[2].state;
+        const quint64 state = window_->frames()[3].state;
         const std::string name = toggle->objectName().mid(5).toStdString();
         toggle->setChecked(true);
         QCoreApplication::processEvents();
-        const ScenePart part = *window_->session().project().views[2].part;
+        const ScenePart part = *window_->session().project().views[3].part;
         QVERIFY(std::find(part.lights.begin(), part.lights.end(), name) != part.lights.end() ||
                 std::find(part.media.begin(), part.media.end(), name) != part.media.end());
-        QVERIFY(window_->frames()[2].state != state);
+        QVERIFY(window_->frames()[3].state != state);
         QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
         window_->session().undoStack()->undo();
         QCoreApplication::processEvents();
         QVERIFY(!window_->findChild<QCheckBox*>(toggle->objectName())->isChecked());
-        QCOMPARE(window_->frames()[2].state, state);
+        QCOMPARE(window_->frames()[3].state, state);
         QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
     }
 
