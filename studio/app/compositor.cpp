@@ -134,7 +134,9 @@ QString comparandName(const ViewFrame& f) {
     return f.snapshot ? "snapshot " + f.snapshotName : f.alternate ? "view " + f.alternateName : QString("reference");
 }
 
-QString labelOf(const ViewFrame& f, bool reference) {
+// A tile's caption, in full or compact (for a narrow tile: without the technique's name, which the Views dock lists,
+// and with a short note for a partial scene).
+QString labelOf(const ViewFrame& f, bool reference, bool compact = false) {
     if (!f.error.isEmpty()) return f.name + "  -  " + f.error.left(120);
     // What changes (rendering, stale, progress) comes first: a narrow tile elides the end of its caption.
     QString line = f.name, details;
@@ -150,7 +152,7 @@ QString labelOf(const ViewFrame& f, bool reference) {
         }
     } else {
         if (f.rendering) line += " (rendering)";
-        line += "  -  " + f.technique;
+        if (!compact) line += "  -  " + f.technique;
         if (f.image && !f.file) {
             details = QString("  %1 ms").arg(f.seconds * 1e3, 0, 'f', 0);
             if (f.spp > 1) details += QString("  %1 spp").arg(f.spp);
@@ -158,17 +160,24 @@ QString labelOf(const ViewFrame& f, bool reference) {
     }
     // A view without its own lights/media renders what its technique supports: say that the scene is not all there.
     const Image* shown = reference ? f.reference.get() : f.image.get();
-    if (shown && shown->metadata.count("leftOut")) line += "  (leaves out part of the scene)";
+    if (shown && shown->metadata.count("leftOut")) line += compact ? "  (partial)" : "  (leaves out part of the scene)";
     return line + details;
 }
 
-QString metricsLine(const ViewFrame& f) {
+// The metrics under a tile, in full or compact (relMSE and PSNR only, without their long names).
+QString metricsLine(const ViewFrame& f, bool compact = false) {
     if (!f.metrics) {
         if (const QString why = incomparable(f); !why.isEmpty()) return "no metrics: " + why;
         if (f.snapshot || f.alternate || !f.image) return {};
         return "metrics waiting for the reference" + (referenceProgress(f).isEmpty() ? QString() : ": " + referenceProgress(f));
     }
     const QString progress = referenceProgress(f);
+    if (compact) {
+        QString line = QString(f.metricsStale ? "stale: " : "") + "relMSE " + number(f.metrics->relMSE) + "  " +
+                       number(f.metrics->psnr) + " dB";
+        if (f.regionMetrics) line += "  | region " + number(f.regionMetrics->relMSE);
+        return line;
+    }
     QString line = QString(f.metricsStale ? (progress.isEmpty() ? "stale: " : "stale (" + progress + "): ") : "") +
                    "relMSE " + number(f.metrics->relMSE) + "  PSNR " + number(f.metrics->psnr) + " dB";
     if (f.metrics->referenceNoiseRelMSE) line += "  ref. noise " + number(*f.metrics->referenceNoiseRelMSE);
@@ -204,19 +213,36 @@ void drawRegion(QPainter& p, QRect imageRect, QRectF visible, QRect region) {
     p.setClipping(false);
 }
 
-void drawLabel(QPainter& p, QRect imageRect, const QString& top, const QString& bottom) {
-    p.setPen(QColor(230, 230, 230));
-    QFont font = p.font();
+QFont captionFont(QFont font) {
     font.setPixelSize(12);
-    p.setFont(font);
-    // Within the image's width, elided: a label never runs into the next cell of the grid.
-    const QRect r(imageRect.x(), imageRect.bottom() + 3, imageRect.width(), 14);
-    const QFontMetrics metrics(font);
-    p.drawText(r, Qt::AlignLeft | Qt::AlignVCenter, metrics.elidedText(top, Qt::ElideRight, r.width()));
-    if (!bottom.isEmpty())
-        p.drawText(r.translated(0, 15), Qt::AlignLeft | Qt::AlignVCenter,
-                   metrics.elidedText(bottom, Qt::ElideRight, r.width()));
+    return font;
 }
+
+// The full text when it fits `width`, else the compact one, elided if even that does not fit: a caption never runs
+// into the next cell of the grid, and a narrow tile keeps its numbers rather than the technique's name.
+QString fitted(const QFontMetrics& metrics, int width, const QString& full, const QString& compact) {
+    if (metrics.horizontalAdvance(full) <= width) return full;
+    return metrics.elidedText(compact, Qt::ElideRight, width);
+}
+
+void drawLabel(QPainter& p, QRect imageRect, const QStringList& lines) {
+    p.setPen(QColor(230, 230, 230));
+    p.setFont(captionFont(p.font()));
+    const QRect r(imageRect.x(), imageRect.bottom() + 3, imageRect.width(), 14);
+    for (int i = 0; i < lines.size(); ++i)
+        if (!lines[i].isEmpty()) p.drawText(r.translated(0, 15 * i), Qt::AlignLeft | Qt::AlignVCenter, lines[i]);
+}
+
+}  // namespace
+
+QStringList tileCaption(const ViewFrame& frame, bool reference, int width, const QFont& font) {
+    const QFontMetrics metrics(captionFont(font));
+    QStringList lines = {fitted(metrics, width, labelOf(frame, reference), labelOf(frame, reference, true))};
+    if (!reference) lines << fitted(metrics, width, metricsLine(frame), metricsLine(frame, true));
+    return lines;
+}
+
+namespace {
 
 void drawColourBar(QPainter& p, QSize size, DiffMode mode, double scale) {
     const int width = std::min(256, size.width() / 3), height = 10;
@@ -413,7 +439,9 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             QString other = comparandName(f);
             if (!f.snapshot && !f.alternate && f.reference && referenceStale(f)) other += " (stale)";
             const QString sides = state.swapped ? other + " | " + f.technique : f.technique + " | " + other;
-            drawLabel(p, r, f.name + "  -  " + sides, metricsLine(f));
+            const QFontMetrics metrics(captionFont(p.font()));
+            drawLabel(p, r, {fitted(metrics, r.width(), f.name + "  -  " + sides, f.name + "  -  " + sides),
+                             fitted(metrics, r.width(), metricsLine(f), metricsLine(f, true))});
             if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);
             continue;
         }
@@ -431,7 +459,7 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
         } else {
             p.drawImage(r, img);
         }
-        drawLabel(p, r, labelOf(f, reference), reference ? QString() : metricsLine(f));
+        drawLabel(p, r, tileCaption(f, reference, r.width(), p.font()));
         if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);
     }
     if (state.diff != DiffMode::Off) {

@@ -8,7 +8,9 @@
 #include "tyndall/metrics.h"
 #include "tyndall/tonemap.h"
 
+#include <QFont>
 #include <QImage>
+#include <QStringList>
 #include <QRect>
 #include <QString>
 
@@ -84,6 +86,9 @@ ComparisonPair referencePair(const ViewFrame& frame);  // the same against the r
 // The reference is not of the view's current state (or missing): what its tile and the wipe say instead of nothing.
 bool referenceStale(const ViewFrame& frame);
 QString referenceProgress(const ViewFrame& frame);  // "24/64 spp, ETA 10 s", or empty when it is done
+// The caption under a view's tile of `width` pixels, as drawn in `font` at 12 px: the label (name, rendering, technique,
+// frame time, spp) and, for a view, its metrics; each in full when it fits, else compact, elided at the end.
+QStringList tileCaption(const ViewFrame& frame, bool reference, int width, const QFont& font);
 // Why the view's pair cannot be compared ("sizes differ: 16 x 12 against 96 x 72"; an image opened from a file may
 // have any size), or empty.
 QString incomparable(const ViewFrame& frame);

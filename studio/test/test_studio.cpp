@@ -524,6 +524,29 @@ private slots:
         QVERIFY(samePixels(*window_->frames()[3].image, *before[3].image));
     }
 
+    // Captions fit their tiles: in the default window's grid every view's metrics line shows its relMSE and PSNR whole
+    // (the compact form drops the long names), and a wide tile gets the full caption with the technique's name.
+    void captionsKeepTheirNumbersInNarrowTiles() {
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+        window_->setLayoutMode(Layout::Grid);
+        const std::vector<ViewFrame>& frames = window_->frames();
+        const std::vector<QRect> rects = viewRects(frames, window_->compositorState(), window_->viewport()->pixelSize());
+        const QString ellipsis(QChar(0x2026));
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            const ViewFrame& f = frames[i];
+            QVERIFY(f.metrics);
+            const QStringList caption = tileCaption(f, false, rects[i].width(), window_->font());
+            QCOMPARE(caption.size(), 2);
+            const QString relMSE = QString::number(f.metrics->relMSE, 'g', 3), psnr = QString::number(f.metrics->psnr, 'g', 3);
+            QVERIFY2(caption[1].contains(relMSE) && caption[1].contains(psnr + " dB") && !caption[1].contains(ellipsis),
+                     qPrintable(QString("%1 px: %2").arg(rects[i].width()).arg(caption[1])));
+            QVERIFY2(caption[0].startsWith(f.name) && !caption[0].contains(ellipsis), qPrintable(caption[0]));
+            const QStringList wide = tileCaption(f, false, 2000, window_->font());
+            QVERIFY(wide[0].contains(f.technique));
+            QVERIFY(wide[1].contains("PSNR"));
+        }
+    }
+
     // The Scene dock edits materials and phase functions: a material's type (its rows follow: albedo for diffuse, f0
     // and roughness for ggx) and a medium's phase type (g shown only for the types that use it). Each is one undoable
     // edit that re-renders the views it affects; a refused value says why.
