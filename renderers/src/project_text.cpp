@@ -167,9 +167,18 @@ private:
         return TextLayout{.oneLine = oneLine, .indent = std::move(indent), .unit = unit_, .newline = newline_};
     }
 
+    // Whether nothing but the item (and a comma after it) stands on its line.
+    bool isAloneOnItsLine(const TextValue& node) const {
+        const std::size_t before = node.start == 0 ? kNone : text_.find_last_not_of(" \t", node.start - 1);
+        const std::size_t after = text_.find_first_not_of(" \t,\r", node.end);
+        return (before == kNone || text_[before] == '\n') && (after == kNone || text_[after] == '\n');
+    }
+
     // `a` written over `node`'s value: on one line where the value was, else one member per line at its indentation.
+    // An empty object or array has no layout to keep: alone on its line, it takes the one of saved files.
     std::string rewritten(const TextValue& node, const json& a, ObjectKind kind) const {
-        return projectValueText(a, kind, layout(isOneLine(node), lineIndent(node.begin)));
+        const bool emptyAlone = node.kind != 0 && node.items.empty() && isAloneOnItsLine(node);
+        return projectValueText(a, kind, layout(isOneLine(node) && !emptyAlone, lineIndent(node.begin)));
     }
 
     // The separator the container uses between items: its last one (",\n    " or ", ").

@@ -57,10 +57,13 @@ std::string readText(const fs::path& path) {
     return readProjectText(path.string());
 }
 
-ProjectFile bundled(const std::string& relativePath) {
-    const std::string path = std::string(TYNDALL_SOURCE_DIR) + "/projects/" + relativePath;
+ProjectFile projectFile(const fs::path& path) {
     const std::string text = readText(path);
-    return ProjectFile{.path = path, .text = text, .project = parseProject(text, path)};
+    return ProjectFile{.path = path.string(), .text = text, .project = parseProject(text, path.string())};
+}
+
+ProjectFile bundled(const std::string& relativePath) {
+    return projectFile(fs::path(TYNDALL_SOURCE_DIR) / "projects" / relativePath);
 }
 
 ProjectFile fromText(const std::string& text) {
@@ -110,7 +113,7 @@ TEST(ProjectText, SavingAnUnchangedBundledProjectKeepsItsFileByteForByte) {
     fs::create_directories(dir);
     for (const fs::path& path : bundledProjects()) {
         SCOPED_TRACE(path.string());
-        const ProjectFile file = bundled(fs::relative(path, fs::path(TYNDALL_SOURCE_DIR) / "projects").string());
+        const ProjectFile file = projectFile(path);
         const ProjectFile saved = saveProject(file.project, (dir / path.filename()).string(), file);
         EXPECT_EQ(readText(dir / path.filename()), file.text);
         EXPECT_EQ(saved.text, file.text);
@@ -122,7 +125,7 @@ TEST(ProjectText, SavingAnUnchangedBundledProjectKeepsItsFileByteForByte) {
 TEST(ProjectText, EditingOneValueOfABundledProjectChangesOneLine) {
     for (const fs::path& path : bundledProjects()) {
         SCOPED_TRACE(path.string());
-        const ProjectFile file = bundled(fs::relative(path, fs::path(TYNDALL_SOURCE_DIR) / "projects").string());
+        const ProjectFile file = projectFile(path);
         Project edited = file.project;
         edited.scene.camera.fovY = 33.5;  // every bundled project gives it
         const LineDiff diff = diffLines(file.text, updated(file, edited));
@@ -245,6 +248,25 @@ TEST(ProjectText, AChangedDefaultIsAddedToItsObject) {
                                  R"(    "seed": 1)", "  }"}));
 }
 
+TEST(ProjectText, AnEmptyListAloneOnItsLineTakesTheLayoutOfSavedFiles) {
+    const ProjectFile file = fromText(R"({
+  "tyndall": 1,
+  "media": [],
+  "views": [{"name": "main", "technique": "reference", "parameters": {}}]
+}
+)");
+    Project edited = editedBy(file, {R"(media[+]={"name": "fog"})", "views[main].parameters.mode=multiple"});
+    const LineDiff diff = diffLines(file.text, updated(file, edited));
+    EXPECT_EQ(diff.removed, (Lines{R"(  "media": [],)",
+                                   R"(  "views": [{"name": "main", "technique": "reference", "parameters": {}}])"}));
+    EXPECT_EQ(
+        diff.added,
+        (Lines{R"(  "media": [)", "    {", R"(      "name": "fog",)", R"(      "sigma_s": [0.1, 0.1, 0.1],)",
+               R"(      "sigma_a": [0.0, 0.0, 0.0],)", R"(      "phase": {)", R"(        "type": "isotropic")",
+               "      },", R"(      "shape": "infinite")", "    }", "  ],",
+               R"(  "views": [{"name": "main", "technique": "reference", "parameters": {"mode": "multiple"}}])"}));
+}
+
 TEST(ProjectText, AFieldSpelledAnotherWayIsRespelledWhenItChanges) {
     // albedo and extinction load as sigma_s and sigma_a: a change of sigma_s spells the medium's coefficients as
     // sigma_s and sigma_a (the medium's other keys stay).
@@ -331,7 +353,7 @@ TEST(ProjectText, ASetOverrideAtLoadIsSavedAgainstTheFileWithoutIt) {
 TEST(ProjectText, EveryEditOfEveryBundledProjectLoadsAsTheEditedProject) {
     for (const fs::path& path : bundledProjects()) {
         SCOPED_TRACE(path.string());
-        const ProjectFile file = bundled(fs::relative(path, fs::path(TYNDALL_SOURCE_DIR) / "projects").string());
+        const ProjectFile file = projectFile(path);
         ASSERT_FALSE(file.project.views.empty());
         // Each edit with the most lines it may remove: the edited ones, or one that gains a comma.
         std::vector<std::pair<Project, std::size_t>> edits(4, {file.project, 1});
