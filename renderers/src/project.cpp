@@ -1,5 +1,6 @@
 // Loading, saving and hashing projects. Reading and validation are in project_read.cpp, writing in
-// project_write.cpp and --set overrides in project_overrides.cpp.
+// project_write.cpp, saving as an edit of the user's text in project_text.cpp and --set overrides in
+// project_overrides.cpp.
 #include "tyndall/project.h"
 
 #include "project_internal.h"
@@ -105,12 +106,22 @@ Project parseProject(const std::string& text, const std::string& pathForErrors,
     return projectFromJson(document, pathForErrors);
 }
 
+std::string readProjectText(const std::string& path) {
+    return readFile(path);
+}
+
 Project loadProject(const std::string& path, const std::vector<std::string>& overrides) {
-    return parseProject(readFile(path), path, overrides);
+    return parseProject(readProjectText(path), path, overrides);
 }
 
 void saveProject(const Project& project, const std::string& path) {
     writeFileAtomically(path, projectText(project));
+}
+
+ProjectFile saveProject(const Project& project, const std::string& path, const ProjectFile& original) {
+    ProjectFile saved{.path = path, .text = updateProjectText(original, project), .project = project};
+    writeFileAtomically(path, saved.text);
+    return saved;
 }
 
 std::string projectHash(const Project& project) {

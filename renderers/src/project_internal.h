@@ -122,6 +122,22 @@ ObjectKind lightKind(const nlohmann::json& light);
 // A technique parameter as given in JSON: a number, boolean, string or [r, g, b]. Fails at `field` otherwise.
 ParamValue paramValueFromJson(const JsonField& field);
 
+// The object's keys with the kind of what each holds: first those of the schema in its order, then any others.
+std::vector<std::pair<std::string, ObjectKind>> keysInSchemaOrder(const nlohmann::json& object, ObjectKind kind);
+
+// How the text of saved files is laid out: one member or structured element per line, the first line of a value
+// indented by `indent` and each level inside it by `unit` more; or everything on one line ({"a": 1, "b": [1, 2]}).
+// Arrays of plain values (vectors) are on one line either way.
+struct TextLayout {
+    bool oneLine = false;
+    std::string indent;         // of the line the value starts on
+    std::string unit = "  ";    // one level of indentation
+    std::string newline = "\n";
+};
+
+// `value`, a part of projectToJson holding objects of `kind`, as saved files write it (keys in the schema's order).
+std::string projectValueText(const nlohmann::json& value, ObjectKind kind, const TextLayout& layout);
+
 // The text saveProject writes: projectToJson with 2-space indent, keys in the schema's order and vectors on one line.
 std::string projectText(const Project& project);
 

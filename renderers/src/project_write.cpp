@@ -229,38 +229,59 @@ json arrayOf(const std::vector<T>& items) {
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
-// Text of saved files: 2-space indent, keys in the order of the schema (the order docs/project-format.md uses), arrays
-// of plain values such as vectors on one line. Numbers are printed by nlohmann, which round-trips doubles exactly.
+// Text of saved files: keys in the order of the schema (the order docs/project-format.md uses), arrays of plain values
+// such as vectors on one line, the rest one member or element per line (or all on one line). Numbers are printed by
+// nlohmann, which round-trips doubles exactly.
 
-void appendIndent(std::string& out, int depth) {
-    out.append(2 * static_cast<std::size_t>(depth), ' ');
+void appendLineBreak(std::string& out, const TextLayout& layout, int depth) {
+    out += layout.newline + layout.indent;
+    for (int i = 0; i < depth; ++i)
+        out += layout.unit;
 }
 
 bool isFlat(const json& array) {
     return std::none_of(array.begin(), array.end(), [](const json& v) { return v.is_structured(); });
 }
 
-void appendValue(std::string& out, const json& value, ObjectKind kind, int depth);
+void appendValue(std::string& out, const json& value, ObjectKind kind, const TextLayout& layout, int depth);
 
-void appendArray(std::string& out, const json& array, ObjectKind elementKind, int depth) {
-    if (array.empty() || isFlat(array)) {
-        out += "[";
-        for (std::size_t i = 0; i < array.size(); ++i)
-            out += (i ? ", " : "") + array[i].dump();
-        out += "]";
-        return;
-    }
-    out += "[\n";
+void appendArray(std::string& out, const json& array, ObjectKind elementKind, const TextLayout& layout, int depth) {
+    const bool oneLine = layout.oneLine || isFlat(array);
+    out += "[";
     for (std::size_t i = 0; i < array.size(); ++i) {
-        appendIndent(out, depth + 1);
-        appendValue(out, array[i], elementKind, depth + 1);
-        out += i + 1 < array.size() ? ",\n" : "\n";
+        if (i) out += oneLine ? ", " : ",";
+        if (!oneLine) appendLineBreak(out, layout, depth + 1);
+        appendValue(out, array[i], elementKind, layout, depth + 1);
     }
-    appendIndent(out, depth);
+    if (!oneLine && !array.empty()) appendLineBreak(out, layout, depth);
     out += "]";
 }
 
-// The object's keys with the kind of what each holds: first those of the schema in its order, then any others.
+void appendObject(std::string& out, const json& object, ObjectKind kind, const TextLayout& layout, int depth) {
+    const auto keys = keysInSchemaOrder(object, kind);
+    out += "{";
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        if (i) out += layout.oneLine ? ", " : ",";
+        if (!layout.oneLine) appendLineBreak(out, layout, depth + 1);
+        out += json(keys[i].first).dump() + ": ";
+        appendValue(out, object.at(keys[i].first), keys[i].second, layout, depth + 1);
+    }
+    if (!layout.oneLine && !keys.empty()) appendLineBreak(out, layout, depth);
+    out += "}";
+}
+
+void appendValue(std::string& out, const json& value, ObjectKind kind, const TextLayout& layout, int depth) {
+    if (value.is_object()) {
+        appendObject(out, value, kind, layout, depth);
+    } else if (value.is_array()) {
+        appendArray(out, value, kind, layout, depth);
+    } else {
+        out += value.dump();
+    }
+}
+
+}  // namespace
+
 std::vector<std::pair<std::string, ObjectKind>> keysInSchemaOrder(const json& object, ObjectKind kind) {
     std::vector<std::pair<std::string, ObjectKind>> keys;
     const std::span<const KeySpec> specs = keySpecs(kind == ObjectKind::Light ? lightKind(object) : kind);
@@ -275,39 +296,14 @@ std::vector<std::pair<std::string, ObjectKind>> keysInSchemaOrder(const json& ob
     return keys;
 }
 
-void appendObject(std::string& out, const json& object, ObjectKind kind, int depth) {
-    if (object.empty()) {
-        out += "{}";
-        return;
-    }
-    const auto keys = keysInSchemaOrder(object, kind);
-    out += "{\n";
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-        appendIndent(out, depth + 1);
-        out += json(keys[i].first).dump() + ": ";
-        appendValue(out, object.at(keys[i].first), keys[i].second, depth + 1);
-        out += i + 1 < keys.size() ? ",\n" : "\n";
-    }
-    appendIndent(out, depth);
-    out += "}";
+std::string projectValueText(const json& value, ObjectKind kind, const TextLayout& layout) {
+    std::string text;
+    appendValue(text, value, kind, layout, 0);
+    return text;
 }
-
-void appendValue(std::string& out, const json& value, ObjectKind kind, int depth) {
-    if (value.is_object()) {
-        appendObject(out, value, kind, depth);
-    } else if (value.is_array()) {
-        appendArray(out, value, kind, depth);
-    } else {
-        out += value.dump();
-    }
-}
-
-}  // namespace
 
 std::string projectText(const Project& project) {
-    std::string text;
-    appendValue(text, projectToJson(project), ObjectKind::Project, 0);
-    return text + "\n";
+    return projectValueText(projectToJson(project), ObjectKind::Project, TextLayout{}) + "\n";
 }
 
 json projectToJson(const Project& project) {

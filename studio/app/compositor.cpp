@@ -164,8 +164,11 @@ QString labelOf(const ViewFrame& f, bool reference, bool compact = false) {
     return line + details;
 }
 
-// The metrics under a tile, in full or compact (relMSE and PSNR only, without their long names).
-QString metricsLine(const ViewFrame& f, bool compact = false) {
+// The metrics under a tile: in full, compact (relMSE and PSNR without their long names, and the region's relMSE) or
+// minimal (without the region's, which the Metrics dock lists).
+enum class Detail { Full, Compact, Minimal };
+QString metricsLine(const ViewFrame& f, Detail detail = Detail::Full) {
+    const bool compact = detail != Detail::Full;
     if (!f.metrics) {
         if (const QString why = incomparable(f); !why.isEmpty()) return "no metrics: " + why;
         if (f.snapshot || f.alternate || !f.image) return {};
@@ -175,7 +178,7 @@ QString metricsLine(const ViewFrame& f, bool compact = false) {
     if (compact) {
         QString line = QString(f.metricsStale ? "stale: " : "") + "relMSE " + number(f.metrics->relMSE) + "  " +
                        number(f.metrics->psnr) + " dB";
-        if (f.regionMetrics) line += "  | region " + number(f.regionMetrics->relMSE);
+        if (f.regionMetrics && detail == Detail::Compact) line += "  | region " + number(f.regionMetrics->relMSE);
         return line;
     }
     QString line = QString(f.metricsStale ? (progress.isEmpty() ? "stale: " : "stale (" + progress + "): ") : "") +
@@ -218,11 +221,12 @@ QFont captionFont(QFont font) {
     return font;
 }
 
-// The full text when it fits `width`, else the compact one, elided if even that does not fit: a caption never runs
-// into the next cell of the grid, and a narrow tile keeps its numbers rather than the technique's name.
-QString fitted(const QFontMetrics& metrics, int width, const QString& full, const QString& compact) {
-    if (metrics.horizontalAdvance(full) <= width) return full;
-    return metrics.elidedText(compact, Qt::ElideRight, width);
+// The first of `forms` (from the most to the least detailed) that fits `width`, else the last elided: a caption never
+// runs into the next cell of the grid, and a narrow tile keeps its numbers rather than the technique's name.
+QString fitted(const QFontMetrics& metrics, int width, const QStringList& forms) {
+    for (const QString& form : forms)
+        if (metrics.horizontalAdvance(form) <= width) return form;
+    return metrics.elidedText(forms.back(), Qt::ElideRight, width);
 }
 
 void drawLabel(QPainter& p, QRect imageRect, const QStringList& lines) {
@@ -237,8 +241,10 @@ void drawLabel(QPainter& p, QRect imageRect, const QStringList& lines) {
 
 QStringList tileCaption(const ViewFrame& frame, bool reference, int width, const QFont& font) {
     const QFontMetrics metrics(captionFont(font));
-    QStringList lines = {fitted(metrics, width, labelOf(frame, reference), labelOf(frame, reference, true))};
-    if (!reference) lines << fitted(metrics, width, metricsLine(frame), metricsLine(frame, true));
+    QStringList lines = {fitted(metrics, width, {labelOf(frame, reference), labelOf(frame, reference, true)})};
+    if (!reference)
+        lines << fitted(metrics, width,
+                        {metricsLine(frame), metricsLine(frame, Detail::Compact), metricsLine(frame, Detail::Minimal)});
     return lines;
 }
 
@@ -440,8 +446,9 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             if (!f.snapshot && !f.alternate && f.reference && referenceStale(f)) other += " (stale)";
             const QString sides = state.swapped ? other + " | " + f.technique : f.technique + " | " + other;
             const QFontMetrics metrics(captionFont(p.font()));
-            drawLabel(p, r, {fitted(metrics, r.width(), f.name + "  -  " + sides, f.name + "  -  " + sides),
-                             fitted(metrics, r.width(), metricsLine(f), metricsLine(f, true))});
+            drawLabel(p, r, {fitted(metrics, r.width(), {f.name + "  -  " + sides}),
+                             fitted(metrics, r.width(),
+                                    {metricsLine(f), metricsLine(f, Detail::Compact), metricsLine(f, Detail::Minimal)})});
             if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);
             continue;
         }

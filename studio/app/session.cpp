@@ -87,8 +87,22 @@ Session::Session(QObject* parent) : QObject(parent) {
 
 bool Session::open(const QString& path, QString* error, const std::vector<std::string>& overrides) {
     try {
-        Project loaded = loadProject(path.toStdString(), overrides);
+        const std::string file = path.toStdString();
+        const std::string text = readProjectText(file);
+        Project loaded = parseProject(text, file, overrides);
+        // A save compares against the file as it loads without the overrides, so that they are saved as edits of it,
+        // in as few lines as other edits. A file that is valid only with its overrides has no such project: without
+        // its text, it is saved whole.
+        ProjectFile original{.path = file, .text = text, .project = loaded};
+        if (!overrides.empty()) {
+            try {
+                original.project = parseProject(text, file);
+            } catch (const InputError&) {
+                original.text.clear();
+            }
+        }
         project_ = std::move(loaded);
+        file_ = std::move(original);
         path_ = path;
         undo_.clear();
         undo_.setClean();
@@ -107,7 +121,7 @@ bool Session::save(QString* error) {
 
 bool Session::saveAs(const QString& path, QString* error) {
     try {
-        saveProject(project_, path.toStdString());
+        file_ = saveProject(project_, path.toStdString(), file_);
         path_ = path;
         undo_.setClean();
         return true;

@@ -1,5 +1,6 @@
 // The studio's document: the project being edited, where it lives, and the undo stack every edit goes through.
-// Loading never replaces the current project unless the new one is valid; saving is atomic (saveProject).
+// Loading never replaces the current project unless the new one is valid; saving is atomic and keeps the file's text
+// where values did not change (saveProject against the file as last read or saved).
 #pragma once
 
 #include "tyndall/project.h"
@@ -18,7 +19,7 @@ public:
     explicit Session(QObject* parent = nullptr);
 
     // Loads `path` with `overrides` (as the CLI's --set). On failure returns false with the error (file, field, what is
-    // allowed) and keeps the current project.
+    // allowed) and keeps the current project. The overrides are edits of the file: saving writes them as such.
     bool open(const QString& path, QString* error, const std::vector<std::string>& overrides = {});
     bool save(QString* error);
     bool saveAs(const QString& path, QString* error);
@@ -65,6 +66,7 @@ private:
 
     Project project_;
     QString path_;
+    ProjectFile file_;  // the file as last read or saved, without overrides: what a save is an edit of
     QUndoStack undo_;
 };
 

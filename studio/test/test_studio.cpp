@@ -716,14 +716,8 @@ private slots:
     // Unsaved changes are autosaved; a studio that opens the project afterwards (after a crash) recovers them as one
     // undoable edit on top of the file, and the project is listed under the recent ones.
     void recoversUnsavedChangesAfterACrash() {
-        const QString dir = QString(TYNDALL_TEST_TMP) + "/recover";
-        QDir(dir).removeRecursively();
-        QDir().mkpath(dir);
-        const QString path = dir + "/room.json";
-        QVERIFY(QFile::copy(kDefaultProject, path));
-        QFile::remove(MainWindow::autosavePath(path));
-        window_->setRecovery(MainWindow::Recovery::Never);
-        QVERIFY(window_->openProject(path, false));
+        const QString path = openCopyOfTheDefaultProject("recover");
+        QVERIFY(!path.isEmpty());
         QCOMPARE(window_->recentProjects().value(0), QFileInfo(path).absoluteFilePath());
         window_->session().setParameter(1, "raySamples", std::int64_t(3));
         QVERIFY(window_->autosaveNow());
@@ -747,13 +741,8 @@ private slots:
     // An autosave that cannot be written says so in the status bar (its path is taken by a folder, which fails even
     // for root), and the session keeps its changes.
     void reportsAFailedAutosave() {
-        const QString dir = QString(TYNDALL_TEST_TMP) + "/autosave-fails";
-        QDir(dir).removeRecursively();
-        QDir().mkpath(dir);
-        const QString path = dir + "/room.json";
-        QVERIFY(QFile::copy(kDefaultProject, path));
-        window_->setRecovery(MainWindow::Recovery::Never);
-        QVERIFY(window_->openProject(path, false));
+        const QString path = openCopyOfTheDefaultProject("autosave-fails");
+        QVERIFY(!path.isEmpty());
         const QString blocked = MainWindow::autosavePath(path);
         QFile::remove(blocked);
         QVERIFY(QDir().mkpath(blocked + "/taken"));
@@ -1011,6 +1000,40 @@ private slots:
             remove->click();
         }
         QCOMPARE(int(window_->frames().size()), n);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
+    }
+
+    // Saving keeps the file as the user wrote it where nothing changed (issue 19, item 10): an edit of one view's
+    // exposure is one changed line of the file, and the next edit one more line, saved against the file as saved.
+    // The window's --set overrides (kSmall) are edits of the file too: the first save writes them on their lines.
+    void savingAnEditChangesOneLineOfTheFile() {
+        const QString path = openCopyOfTheDefaultProject("text-save");
+        QVERIFY(!path.isEmpty());
+        const auto lines = [&] {
+            QFile file(path);
+            return file.open(QIODevice::ReadOnly) ? file.readAll().split('\n') : QList<QByteArray>();
+        };
+        const auto changed = [](const QList<QByteArray>& before, const QList<QByteArray>& after) {
+            QList<QByteArray> differing;
+            for (qsizetype i = 0; i < std::min(before.size(), after.size()); ++i)
+                if (before[i] != after[i]) differing << after[i];
+            return before.size() == after.size() ? differing : QList<QByteArray>{"(line count changed)"};
+        };
+        const QList<QByteArray> original = lines();
+        QString error;
+        window_->session().setExposure(0, 1.5);
+        QVERIFY2(window_->session().save(&error), qPrintable(error));
+        const QList<QByteArray> first = lines();
+        QCOMPARE(changed(original, first),
+                 (QList<QByteArray>{R"(    "width": 96,)", R"(    "height": 72)",
+                                    R"(    {"name": "everything", "technique": "reference", "exposure": 1.5},)",
+                                    R"(  "reference": {"mode": "single", "maxDepth": 16, "spp": 8, "seed": 1})"}));
+        window_->session().setExposure(3, -0.5);  // "glow" gives no exposure: it is added on its line
+        QVERIFY2(window_->session().save(&error), qPrintable(error));
+        QCOMPARE(changed(first, lines()),
+                 QList<QByteArray>{
+                     R"(    {"name": "glow", "technique": "reference", "parameters": {"distanceSampling": "distance"}, "lights": ["lamp"], "media": ["fog"], "exposure": -0.5})"});
+        QVERIFY(!window_->session().modified());
         QTRY_VERIFY_WITH_TIMEOUT(window_->settled(), 120000);
     }
 
@@ -1403,6 +1426,19 @@ private slots:
     void cleanupTestCase() { window_.reset(); }
 
 private:
+    // Opens a fresh copy of the default project in TYNDALL_TEST_TMP/<folder> (no autosave of it to recover): its
+    // path, or empty when it could not.
+    QString openCopyOfTheDefaultProject(const QString& folder) {
+        const QString dir = QString(TYNDALL_TEST_TMP) + "/" + folder;
+        QDir(dir).removeRecursively();
+        QDir().mkpath(dir);
+        const QString path = dir + "/room.json";
+        if (!QFile::copy(kDefaultProject, path)) return {};
+        QFile::remove(MainWindow::autosavePath(path));
+        window_->setRecovery(MainWindow::Recovery::Never);
+        return window_->openProject(path, false) ? path : QString();
+    }
+
     QVulkanInstance* vulkan_;
     std::unique_ptr<MainWindow> window_;
 };

@@ -52,6 +52,30 @@ Project projectFromJson(const nlohmann::json& json, const std::string& pathForEr
 // writable; the previous file is untouched on failure.
 void saveProject(const Project& project, const std::string& path);
 
+// A project file as it was read: its text and the project that text loads as (without --set overrides). Saving an
+// edited project against it keeps the user's text wherever a value did not change (updateProjectText).
+struct ProjectFile {
+    std::string path;  // where the text was read from: relative paths in it resolve against its folder
+    std::string text;  // empty: no text to keep, the whole project is written
+    Project project;
+};
+
+// The text of a project file (InputError naming the path when it cannot be read), as loadProject reads it.
+std::string readProjectText(const std::string& path);
+
+// The text of `edited` as an edit of `original.text`: values equal in original.project and `edited` keep their text
+// (key order, number spelling, omitted defaults, layout); changed values are written over theirs as saveProject writes
+// them, on one line where they were; added keys and elements go after their neighbours in their layout, removed ones
+// are cut. Elements with a "name" are paired by name, others by index. Where the text cannot be mapped (it does not
+// load as original.project, as after --set overrides; an object spells a changed field another way, such as albedo for
+// sigma_s) that object, or at worst the whole project, is written as saveProject(project, path) would. The result
+// always loads as `edited`: it is checked, and the whole project written when it does not.
+std::string updateProjectText(const ProjectFile& original, const Project& edited);
+
+// saveProject(project, path) with the text of updateProjectText(original, project). Returns the file as saved: the
+// original to save the next edit against.
+ProjectFile saveProject(const Project& project, const std::string& path, const ProjectFile& original);
+
 // A stable hash (16 hex digits, FNV-1a over the saved JSON) of the whole project, for render metadata and caches.
 std::string projectHash(const Project& project);
 
