@@ -213,8 +213,14 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     inspector_->setObjectName("inspector");
     inspector_->setTextFormat(Qt::RichText);
     inspector_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
-    inspector_->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
-    inspectorDock->setWidget(inspector_);
+    inspector_->setTextInteractionFlags(Qt::TextSelectableByMouse);  // values can be copied
+    // In a scroll area: a row of three values per view and its reference is wider than the dock, and a clipped
+    // column (the reference's) would hide what the user came for.
+    auto* inspectorScroll = new QScrollArea;
+    inspectorScroll->setObjectName("inspectorScroll");
+    inspectorScroll->setWidgetResizable(true);
+    inspectorScroll->setWidget(inspector_);
+    inspectorDock->setWidget(inspectorScroll);
     addDockWidget(Qt::RightDockWidgetArea, inspectorDock);
 
     auto* snapshotsDock = new QDockWidget("Snapshots", this);

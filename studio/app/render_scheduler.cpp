@@ -2,6 +2,7 @@
 
 #include "trace.h"
 
+#include "tyndall/gpu/context.h"
 #include "tyndall/image_io.h"
 
 #include <QCryptographicHash>
@@ -164,6 +165,11 @@ void RenderScheduler::render(int view, bool reference) {
                                                          : makeViewJob(project, session_.path().toStdString(), v.name));
         // Every image carries the state of its part (exports pair a view with its reference by it).
         task.job->metadata["partHash"] = stateName(task.state).toStdString();
+        // A technique view that renders on a hardware GPU may run beside the CPU's renders (RenderService).
+        if (!reference && task.job->request.params.find("device")) {
+            const std::string& device = task.job->request.params.getEnum("device");
+            task.gpu = device == "gpu" || (device == "auto" && gpu::hardwareDeviceAvailable());
+        }
     } catch (const std::exception& e) {
         emit failed(view, QString::fromStdString(e.what()));
         return;

@@ -3,6 +3,7 @@
 #include "trace.h"
 
 #include "tyndall/error.h"
+#include "tyndall/gpu/context.h"
 
 #include <QMetaObject>
 
@@ -29,8 +30,22 @@ void lowerCurrentThreadPriority(int nice) {
 #endif
 }
 
-RenderService::RenderService(QObject* parent) : QObject(parent) {
-    thread_ = std::thread([this] { run(); });
+RenderService::RenderService(QObject* parent, GpuWorker gpuWorker) : QObject(parent) {
+    bool second = gpuWorker == GpuWorker::On;
+    if (gpuWorker == GpuWorker::Auto) {
+        try {
+            second = gpu::hardwareDeviceAvailable();
+        } catch (const std::exception&) {
+            second = false;
+        }
+    }
+    workers_.push_back(std::make_unique<Worker>());
+    if (second) {
+        workers_.push_back(std::make_unique<Worker>());
+        workers_.back()->gpuOnly = true;
+    }
+    for (auto& worker : workers_)
+        worker->thread = std::thread([this, w = worker.get()] { run(*w); });
 }
 
 RenderService::~RenderService() {
@@ -38,10 +53,22 @@ RenderService::~RenderService() {
         std::lock_guard lock(mutex_);
         quit_ = true;
         queue_.clear();
-        cancel_ = true;
+        for (auto& worker : workers_) worker->cancel = true;
     }
     wake_.notify_all();
-    thread_.join();
+    for (auto& worker : workers_) worker->thread.join();
+}
+
+bool RenderService::takes(const Worker& worker, const RenderTask& task) const {
+    // With a GPU worker, the GPU's tasks are its own and the other worker keeps the CPU's.
+    if (worker.gpuOnly) return task.gpu;
+    return workers_.size() == 1 || !task.gpu;
+}
+
+bool RenderService::anyRunning() const {
+    for (const auto& worker : workers_)
+        if (worker->running) return true;
+    return false;
 }
 
 void RenderService::submit(RenderTask task) {
@@ -49,14 +76,24 @@ void RenderService::submit(RenderTask task) {
         std::lock_guard lock(mutex_);
         for (auto it = queue_.begin(); it != queue_.end();)
             it = (it->view == task.view && it->reference == task.reference) ? queue_.erase(it) : it + 1;
-        if (running_ && runningView_ == task.view && runningReference_ == task.reference) cancel_ = true;
-        // An edit comes first: a running task of a later class steps aside and starts again afterwards.
-        const int running = runningReference_ ? 2 : runningSlow_ ? 1 : 0;
-        if (running_ && !cancel_ && classOf(task) < running) {
-            cancel_ = true;
-            requeueRunning_ = true;
+        for (auto& worker : workers_) {
+            if (!worker->running) continue;
+            const RenderTask& running = *worker->task;
+            if (running.view == task.view && running.reference == task.reference) {
+                worker->cancel = true;
+                worker->requeue = false;
+            }
         }
-        enqueue(std::move(task));
+        // An edit comes first: a running task of a later class on the worker this task needs steps aside and starts
+        // again afterwards. (Another worker's task goes on: it does not stand in the way.)
+        for (auto& worker : workers_) {
+            if (!worker->running || worker->cancel || !takes(*worker, task)) continue;
+            if (classOf(task) < classOf(*worker->task)) {
+                worker->cancel = true;
+                worker->requeue = true;
+            }
+        }
+        enqueue(std::move(task), false);
     }
     wake_.notify_all();
     emit idleChanged(false);
@@ -66,19 +103,21 @@ int RenderService::classOf(const RenderTask& task) {
     return task.reference ? 2 : task.slow ? 1 : 0;
 }
 
-void RenderService::enqueue(RenderTask task) {
-    // Before the first task of its class or a later one: newest first within the class.
+void RenderService::enqueue(RenderTask task, bool oldest) {
+    // Newest first within a class: before the first task of its class (or of a later one); an interrupted task, the
+    // oldest of its class, after the tasks of its class queued meanwhile.
     const int c = classOf(task);
-    auto at = std::find_if(queue_.begin(), queue_.end(), [c](const RenderTask& t) { return classOf(t) >= c; });
+    auto at = std::find_if(queue_.begin(), queue_.end(),
+                           [c, oldest](const RenderTask& t) { return oldest ? classOf(t) > c : classOf(t) >= c; });
     queue_.insert(at, std::move(task));
 }
 
 void RenderService::cancelAll() {
-    {
-        std::lock_guard lock(mutex_);
-        queue_.clear();
-        if (running_) cancel_ = true;
-        requeueRunning_ = false;
+    std::lock_guard lock(mutex_);
+    queue_.clear();
+    for (auto& worker : workers_) {
+        if (worker->running) worker->cancel = true;
+        worker->requeue = false;
     }
 }
 
@@ -86,22 +125,23 @@ void RenderService::cancelReference(int view) {
     std::lock_guard lock(mutex_);
     for (auto it = queue_.begin(); it != queue_.end();)
         it = (it->view == view && it->reference) ? queue_.erase(it) : it + 1;
-    if (running_ && runningReference_ && runningView_ == view) {
-        cancel_ = true;
-        requeueRunning_ = false;
-    }
+    for (auto& worker : workers_)
+        if (worker->running && worker->task->reference && worker->task->view == view) {
+            worker->cancel = true;
+            worker->requeue = false;
+        }
 }
 
 bool RenderService::idle() const {
     std::lock_guard lock(mutex_);
-    return !running_ && queue_.empty();
+    return !anyRunning() && queue_.empty();
 }
 
 void RenderService::post(RenderOutput out) {
     QMetaObject::invokeMethod(this, [this, out = std::move(out)] { emit output(out); }, Qt::QueuedConnection);
 }
 
-void RenderService::run() {
+void RenderService::run(Worker& worker) {
     using Clock = std::chrono::steady_clock;
     // Renders run below the GUI: an edit's frame is drawn and the window keeps answering while they compute. The
     // renders themselves wait for nothing but the CPU, so their latency hardly changes (the GUI needs little of it).
@@ -110,18 +150,20 @@ void RenderService::run() {
         std::shared_ptr<RenderTask> task;
         {
             std::unique_lock lock(mutex_);
-            wake_.wait(lock, [&] { return quit_ || !queue_.empty(); });
+            // The queue is in order: fast views, slow views, references; the first this worker takes.
+            auto next = queue_.end();
+            wake_.wait(lock, [&] {
+                if (quit_) return true;
+                next = std::find_if(queue_.begin(), queue_.end(), [&](const RenderTask& t) { return takes(worker, t); });
+                return next != queue_.end();
+            });
             if (quit_) return;
-            // The queue is in order: fast views, slow views, references.
-            task = std::make_shared<RenderTask>(std::move(queue_.front()));
-            queue_.pop_front();
-            running_ = true;
-            runningView_ = task->view;
-            runningReference_ = task->reference;
-            runningSlow_ = task->slow;
-            runningTask_ = task;
-            cancel_ = false;
-            requeueRunning_ = false;
+            task = std::make_shared<RenderTask>(std::move(*next));
+            queue_.erase(next);
+            worker.running = true;
+            worker.task = task;
+            worker.cancel = false;
+            worker.requeue = false;
         }
         RenderOutput out;
         out.view = task->view;
@@ -133,7 +175,7 @@ void RenderService::run() {
         trace("%s %d: worker starts", task->reference ? "reference" : "view", task->view);
         auto lastPost = started - std::chrono::hours(1);  // the first progressive image goes out at once
         RenderCallbacks callbacks;
-        callbacks.cancel = &cancel_;
+        callbacks.cancel = &worker.cancel;
         callbacks.intermediate = [&](const Image& image, int spp) {
             // Progressive images at most every 200 ms: the GUI composes each one.
             if (Clock::now() - lastPost < std::chrono::milliseconds(200)) return;
@@ -165,26 +207,21 @@ void RenderService::run() {
         bool nowIdle = false;
         {
             std::lock_guard lock(mutex_);
-            running_ = false;
-            runningTask_.reset();
-            if (cancelled && requeueRunning_ && !quit_) {
-                // The interrupted task starts again once the edit's renders are done (oldest of its class: after the
-                // tasks queued meanwhile, which are newer).
+            worker.running = false;
+            worker.task.reset();
+            if (cancelled && worker.requeue && !quit_) {
+                // The interrupted task starts again once the edit's renders are done, unless a newer one replaced it.
                 bool replaced = false;
                 for (const RenderTask& t : queue_)
                     replaced |= t.view == task->view && t.reference == task->reference;
-                if (!replaced) {
-                    const int c = classOf(*task);
-                    auto at = std::find_if(queue_.begin(), queue_.end(),
-                                           [c](const RenderTask& t) { return classOf(t) > c; });
-                    queue_.insert(at, *task);
-                }
+                if (!replaced) enqueue(*task, true);
             }
-            nowIdle = queue_.empty();
+            nowIdle = queue_.empty() && !anyRunning();
         }
         if (!cancelled) post(std::move(out));
         if (nowIdle)
             QMetaObject::invokeMethod(this, [this] { emit idleChanged(idle()); }, Qt::QueuedConnection);
+        wake_.notify_all();  // a requeued task may be the other worker's
     }
 }
 

@@ -1,13 +1,15 @@
-// Renders views and references off the GUI thread. One worker runs one job at a time, in three classes: fast technique
-// views (the analytic and GPU techniques, ~0.1-1 s), then slow ones (progressive: the path tracer as a view, which may
-// render for minutes), then references; newest first within a class. A new task for a view (or its reference)
-// replaces the queued one and cancels the running one, so stale results are dropped rather than shown. A task of an
-// earlier class interrupts a running one of a later class (a fast view a slow view or a reference, a slow view a
-// reference), which goes back to the queue and starts again afterwards: the two cores serve the edit first. Outputs
+// Renders views and references off the GUI thread, in three classes: fast technique views (the analytic and GPU
+// techniques, ~0.1-1 s), then slow ones (progressive: the path tracer as a view, which may render for minutes), then
+// references; newest first within a class. A new task for a view (or its reference) replaces the queued one and
+// cancels the running one, so stale results are dropped rather than shown. A task of an earlier class interrupts a
+// running one of a later class on the worker it needs (a fast view a slow view or a reference, a slow view a
+// reference), which goes back to the queue and starts again afterwards: the cores serve the edit first. Outputs
 // (progressive images and the final one) arrive on the GUI thread through `output`.
 //
-// One worker, not one per device: here the GPU is lavapipe, which renders on the same two cores as the CPU techniques,
-// so running a GPU view beside a CPU reference would only halve the speed of both (docs/architecture.md, "The studio").
+// Workers: one for everything, and, when the machine has a hardware GPU (gpu::hardwareDeviceAvailable), a second that
+// runs only the tasks that render on it (RenderTask::gpu), concurrently with the CPU's: a GPU view's edit then neither
+// waits for nor interrupts a reference. Here the only device is lavapipe, which renders on the same two cores as the
+// CPU, so a second worker would only halve the speed of both: it is off (the tests turn it on to check it).
 #pragma once
 
 #include "tyndall/render.h"
@@ -21,6 +23,7 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 namespace tyndall::studio {
 
@@ -34,6 +37,7 @@ struct RenderTask {
     int view = 0;
     bool reference = false;
     bool slow = false;       // a technique view that renders progressively for long (its class above)
+    bool gpu = false;        // it renders on a hardware GPU: the GPU worker may take it
     quint64 generation = 0;  // increases with every edit; outputs of older generations are stale
     quint64 state = 0;       // the state of the view's part of the scene it renders (images of one state compare)
     std::shared_ptr<RenderJob> job;
@@ -56,7 +60,9 @@ struct RenderOutput {
 class RenderService : public QObject {
     Q_OBJECT
 public:
-    explicit RenderService(QObject* parent = nullptr);
+    // gpuWorker: the second worker for GPU tasks (by default when a hardware GPU is available).
+    enum class GpuWorker { Auto, On, Off };
+    explicit RenderService(QObject* parent = nullptr, GpuWorker gpuWorker = GpuWorker::Auto);
     ~RenderService() override;
 
     void submit(RenderTask task);
@@ -64,29 +70,33 @@ public:
     // Drops a queued reference of `view` and cancels it if it is running (a cached one replaces it).
     void cancelReference(int view);
     bool idle() const;
+    bool hasGpuWorker() const { return workers_.size() > 1; }
 
 signals:
     void output(const tyndall::studio::RenderOutput& out);
     void idleChanged(bool idle);
 
 private:
-    void run();
+    struct Worker {
+        bool gpuOnly = false;  // takes only tasks with `gpu`
+        bool running = false;
+        std::shared_ptr<RenderTask> task;
+        std::atomic<bool> cancel{false};
+        bool requeue = false;  // the running task was interrupted for an earlier class: it goes back to the queue
+        std::thread thread;
+    };
+    void run(Worker& worker);
     void post(RenderOutput out);
     static int classOf(const RenderTask& task);  // 0 fast view, 1 slow view, 2 reference
-    void enqueue(RenderTask task);               // at its class's place (mutex_ held)
+    void enqueue(RenderTask task, bool oldest);  // at its class's place (mutex_ held)
+    bool takes(const Worker& worker, const RenderTask& task) const;
+    bool anyRunning() const;  // mutex_ held
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;
     std::deque<RenderTask> queue_;
-    bool running_ = false;
-    int runningView_ = -1;
-    bool runningReference_ = false;
-    bool runningSlow_ = false;
-    std::shared_ptr<RenderTask> runningTask_;
-    std::atomic<bool> cancel_{false};
-    bool requeueRunning_ = false;
     bool quit_ = false;
-    std::thread thread_;
+    std::vector<std::unique_ptr<Worker>> workers_;
 };
 
 }  // namespace tyndall::studio

@@ -425,6 +425,13 @@ private slots:
         window_->inspect(QPointF(r.x() + r.width() * 0.5, r.y() + r.height() * 0.6));
         QVERIFY2(window_->inspectorText().contains("pixel"), qPrintable(window_->inspectorText()));
         QVERIFY(window_->inspectorText().contains("light shaft"));
+        // Nothing of it is clipped: every column (the reference's last) is there, scrolled to if the dock is narrow.
+        window_->findChild<QDockWidget*>("inspectorDock")->raise();
+        QCoreApplication::processEvents();
+        auto* inspector = window_->findChild<QLabel*>("inspector");
+        QVERIFY2(inspector->width() >= inspector->sizeHint().width(),
+                 qPrintable(QString("%1 px shown of %2").arg(inspector->width()).arg(inspector->sizeHint().width())));
+        window_->findChild<QDockWidget*>("metricsDock")->raise();
         QCOMPARE(window_->pdfPlot()->plot()->graphCount(), 6);
         QVERIFY(window_->pdfPlot()->plot()->graph(0)->dataCount() == 256);
         int withPoints = 0;
@@ -892,6 +899,49 @@ private slots:
         const int before = slowImages;
         QTRY_VERIFY_WITH_TIMEOUT(slowImages > before, 60000);
         QVERIFY(!service.idle());
+        service.cancelAll();
+        QTRY_VERIFY_WITH_TIMEOUT(service.idle(), 60000);
+    }
+
+    // With a GPU worker (on a machine with a hardware GPU; forced on here, where lavapipe shares the CPU's cores), a
+    // GPU view's render runs beside a CPU one instead of interrupting it: the path tracer's progressive render goes on
+    // (its spp never starts again) while the WVDS view, on the GPU, finishes.
+    void aGpuViewRendersBesideTheCpu() {
+        Project project = loadProject(kDefaultProject.toStdString(), kSmall);
+        project.views[1].parameters["device"] = "gpu";
+        JobOptions slowOptions;
+        slowOptions.spp = 4096;
+        RenderService service(nullptr, RenderService::GpuWorker::On);
+        QVERIFY(service.hasGpuWorker());
+        int slowImages = 0, lastSpp = 0, fastFinals = 0;
+        bool restarted = false;
+        connect(&service, &RenderService::output, [&](const RenderOutput& out) {
+            if (out.view == 0 && out.image) {
+                restarted |= out.spp < lastSpp;
+                lastSpp = out.spp;
+                ++slowImages;
+            }
+            if (out.view == 1 && out.final) fastFinals += out.error.isEmpty() ? 1 : 100;
+        });
+        RenderTask slow;
+        slow.view = 0;
+        slow.slow = true;
+        slow.generation = 1;
+        slow.job = std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "everything", slowOptions));
+        RenderTask fast;
+        fast.view = 1;
+        fast.gpu = true;
+        fast.generation = 2;
+        fast.job = std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "light shaft"));
+        service.submit(slow);
+        // Past its first pass, so that a restart would show as an image of fewer samples.
+        QTRY_VERIFY_WITH_TIMEOUT(lastSpp > 1, 60000);
+        service.submit(fast);
+        QTRY_VERIFY_WITH_TIMEOUT(fastFinals > 0, 60000);
+        QCOMPARE(fastFinals, 1);
+        const int before = slowImages;
+        QTRY_VERIFY_WITH_TIMEOUT(slowImages > before, 60000);
+        QVERIFY2(!restarted, "the CPU's render was interrupted");
         service.cancelAll();
         QTRY_VERIFY_WITH_TIMEOUT(service.idle(), 60000);
     }
