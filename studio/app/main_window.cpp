@@ -1049,11 +1049,15 @@ void MainWindow::updateMetricsDock() {
         QTableWidgetItem* header = metrics_->verticalHeaderItem(row);
         if (!header || header->text() != f.name) metrics_->setVerticalHeaderItem(row, new QTableWidgetItem(f.name));
         if (!f.metrics) {
+            // Why there are no numbers: short in the cell (a long text would widen the column past the dock), whole
+            // in its tooltip.
             const QString why = incomparable(f);
-            set(row, 0, why.isEmpty() ? QString("waiting") : why);
+            set(row, 0, why.isEmpty() ? QString("waiting") : why.section(':', 0, 0));
+            metrics_->item(row, 0)->setToolTip(why);
             for (int c = 1; c < 5; ++c) set(row, c, "");
             continue;
         }
+        if (QTableWidgetItem* first = metrics_->item(row, 0)) first->setToolTip(QString());
         // A stale pair's numbers stay, marked, until the new reference arrives.
         set(row, 0, QString::number(f.metrics->relMSE, 'g', 3) + (f.metricsStale ? " (stale)" : ""));
         set(row, 1, QString::number(f.metrics->psnr, 'g', 4));
