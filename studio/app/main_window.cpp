@@ -307,7 +307,7 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     });
     // The data flows one way: session -> scheduler -> model -> viewport, docks and exports.
     connect(&session_, &Session::projectReplaced, this, [this] {
-        rebuildViews();
+        rebuildViews(true);
         updateTitle();
     });
     connect(&session_, &Session::viewChanged, this, [this](int view) {
@@ -838,7 +838,7 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     event->accept();
 }
 
-void MainWindow::rebuildViews() {
+void MainWindow::rebuildViews(bool projectOpened) {
     const Project& project = session_.project();
     scheduler_->reset();
     std::vector<ComparisonModel::ViewInfo> views;
@@ -851,7 +851,10 @@ void MainWindow::rebuildViews() {
     state_.region = QRect();
     comparedSnapshot_ = -1;
     QString error;
-    if (!snapshots_->load(session_.path(), &error)) statusBar()->showMessage("Snapshots not loaded: " + error, 10000);
+    if (!projectOpened)
+        snapshots_->followViews();
+    else if (!snapshots_->load(session_.path(), &error))
+        statusBar()->showMessage("Snapshots not loaded: " + error, 10000);
     // Nothing of the previous project stays on screen: the inspector, the pdf plot, the snapshot comparison.
     inspector_->setText("Move the cursor over a view");
     pdf_->showMessage("Move the cursor over a view whose technique samples distances (WVDS).");
@@ -879,7 +882,7 @@ void MainWindow::onSceneChanged() {
             state_.current < model_->size() ? model_->frames()[std::size_t(state_.current)].name : QString();
         std::set<std::string> before;
         for (const ViewFrame& f : model_->frames()) before.insert(f.name.toStdString());
-        rebuildViews();
+        rebuildViews(false);
         int select = -1;
         for (int i = 0; i < int(project.views.size()); ++i) {
             if (!before.count(project.views[std::size_t(i)].name)) select = i;  // new
@@ -1006,6 +1009,8 @@ void MainWindow::compareWithSnapshot(int index) {
         return;
     }
     const Snapshot& s = shots[std::size_t(comparedSnapshot_)];
+    if (s.view < 0) statusBar()->showMessage(s.name + ": its view '" + QString::fromStdString(s.viewName) +
+                                             "' is gone; nothing to compare it with", 5000);
     model_->compareWithSnapshot(s.view, s.image, s.name);
 }
 
@@ -1378,7 +1383,7 @@ void MainWindow::refreshSnapshotList() {
     for (const Snapshot& s : snapshots_->snapshots()) {
         QString params = QString::fromStdString(s.parameters.dump());
         if (params.size() > 60) params = params.left(57) + "...";
-        snapshotList_->addItem(s.name + "  " + params);
+        snapshotList_->addItem(s.name + (s.view < 0 ? "  (its view is gone)  " : "  ") + params);
     }
 }
 

@@ -173,7 +173,9 @@ private:
     void buildMenus();
     void connectViewport();
     void updateAnimationActions();  // enabled, and the toolbar shown, only for a project with a particle medium
-    void rebuildViews();            // the views' list, the model and the renders start again
+    // The views' list, the model and the renders start again; the snapshots are read from the project's folder (a
+    // project opened) or follow their views (views added, removed, renamed: unsaved snapshots are kept).
+    void rebuildViews(bool projectOpened);
     void onSceneChanged();
     void onKey(int key, Qt::KeyboardModifiers modifiers, bool pressed);
     void updateTitle();

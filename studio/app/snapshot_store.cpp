@@ -30,6 +30,7 @@ int SnapshotStore::take(int view, std::shared_ptr<const Image> image) {
     const View& v = views[std::size_t(view)];
     Snapshot shot;
     shot.view = view;
+    shot.viewName = v.name;
     shot.image = std::move(image);
     shot.parameters = v.parameters;
     shot.exposure = v.exposure;
@@ -42,7 +43,7 @@ int SnapshotStore::take(int view, std::shared_ptr<const Image> image) {
 bool SnapshotStore::restore(int index) {
     if (index < 0 || index >= int(snapshots_.size())) return false;
     const Snapshot& s = snapshots_[std::size_t(index)];
-    if (s.view >= int(session_.project().views.size())) return false;
+    if (s.view < 0 || s.view >= int(session_.project().views.size())) return false;
     const nlohmann::json current = session_.project().views[std::size_t(s.view)].parameters;
     session_.undoStack()->beginMacro("restore " + s.name);
     for (const auto& [key, value] : current.items())
@@ -52,6 +53,24 @@ bool SnapshotStore::restore(int index) {
     session_.setExposure(s.view, s.exposure);
     session_.undoStack()->endMacro();
     return true;
+}
+
+void SnapshotStore::followViews() {
+    const std::vector<View>& views = session_.project().views;
+    std::vector<Snapshot> kept;
+    for (Snapshot& s : snapshots_) {
+        int found = -1;
+        for (std::size_t v = 0; v < views.size(); ++v)
+            if (views[v].name == s.viewName) found = int(v);
+        if (found < 0 && s.view >= 0 && s.view < int(views.size()) && viewCount_ == int(views.size()))
+            found = s.view;  // renamed
+        s.view = found;
+        if (found >= 0) s.viewName = views[std::size_t(found)].name;
+        kept.push_back(std::move(s));
+    }
+    snapshots_ = std::move(kept);
+    viewCount_ = int(views.size());
+    emit changed();
 }
 
 void SnapshotStore::clear() {
@@ -74,14 +93,13 @@ bool SnapshotStore::save(const QString& projectPath, QString* error) const {
         OutputSet outputs;
         nlohmann::json index = {{"tyndallSnapshots", kFormatVersion}, {"snapshots", nlohmann::json::array()}};
         QStringList written;
-        const std::vector<View>& views = session_.project().views;
         for (std::size_t i = 0; i < snapshots_.size(); ++i) {
             const Snapshot& s = snapshots_[i];
             const QString image = imageFileOf(i);
             outputs.stage(folder.filePath(image).toStdString(), encodeImage(*s.image, image.toStdString()));
             written << image;
             index["snapshots"].push_back({{"name", s.name.toStdString()},
-                                          {"view", s.view < int(views.size()) ? views[std::size_t(s.view)].name : ""},
+                                          {"view", s.viewName},
                                           {"parameters", s.parameters},
                                           {"exposure", s.exposure},
                                           {"image", image.toStdString()}});
@@ -100,6 +118,7 @@ bool SnapshotStore::save(const QString& projectPath, QString* error) const {
 
 bool SnapshotStore::load(const QString& projectPath, QString* error) {
     snapshots_.clear();
+    viewCount_ = int(session_.project().views.size());
     const QDir folder(folderOf(projectPath));
     const QString indexPath = folder.filePath(kIndexFile);
     if (!QFileInfo::exists(indexPath)) {
@@ -138,6 +157,7 @@ bool SnapshotStore::load(const QString& projectPath, QString* error) {
             for (std::size_t v = 0; v < views.size(); ++v)
                 if (views[v].name == s["view"].get<std::string>()) shot.view = int(v);
             if (shot.view < 0) continue;  // the view is gone: its snapshot with it
+            shot.viewName = s["view"].get<std::string>();
             shot.name = QString::fromStdString(s["name"].get<std::string>());
             shot.parameters = s["parameters"];
             shot.exposure = s["exposure"];

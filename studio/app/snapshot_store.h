@@ -20,7 +20,8 @@ namespace tyndall::studio {
 
 struct Snapshot {
     QString name;
-    int view = 0;  // the view's index in the project (saved by its name)
+    int view = 0;          // the view's index in the project; -1 while no view has its name
+    std::string viewName;  // its name (how it is saved, and found again when the views change)
     std::shared_ptr<const Image> image;
     nlohmann::json parameters;
     double exposure = 0.0;
@@ -37,6 +38,10 @@ public:
     // Its parameters and exposure back on its view, as one undoable edit. False for an index out of range.
     bool restore(int index);
     void clear();
+    // The project's views were added, removed, renamed or reordered: each snapshot follows its view, by name (by
+    // index when the view count did not change: a rename). A snapshot whose view is gone is kept with view -1 (not
+    // compared nor restored) and finds its view again when a view of that name comes back (an undo).
+    void followViews();
 
     // "<folder>/<project file's base name>.snapshots".
     static QString folderOf(const QString& projectPath);
@@ -53,6 +58,7 @@ signals:
 private:
     Session& session_;
     std::vector<Snapshot> snapshots_;
+    int viewCount_ = 0;  // the project's views when the snapshots last followed them
 };
 
 }  // namespace tyndall::studio

@@ -848,6 +848,32 @@ private slots:
             QVERIFY(samePixels(*loaded.image, *saved.image));
         }
         QVERIFY(second.snapshots()[1].parameters["raySamples"] == nlohmann::json(3));
+        // Snapshots follow their view when the views change, and are not lost: a view added, one removed before it,
+        // a rename of it; a snapshot whose view is removed goes with it.
+        const auto indexOf = [&](const std::string& name) {
+            const std::vector<View>& views = second.session().project().views;
+            for (std::size_t v = 0; v < views.size(); ++v)
+                if (views[v].name == name) return int(v);
+            return -1;
+        };
+        QVERIFY(second.session().duplicateView(0, &error));
+        QCOMPARE(second.snapshots().size(), std::size_t(2));
+        QCOMPARE(second.snapshots()[0].view, indexOf("light shaft"));
+        QVERIFY(second.session().removeView(0, &error));  // "everything", before it
+        QCOMPARE(second.snapshots().size(), std::size_t(2));
+        QCOMPARE(second.snapshots()[0].view, indexOf("light shaft"));
+        const int shaft = indexOf("light shaft");
+        QVERIFY(second.session().renameView(shaft, "shaft", &error));
+        QCOMPARE(second.snapshots().size(), std::size_t(2));
+        QCOMPARE(second.snapshots()[1].view, shaft);
+        QVERIFY(second.session().removeView(shaft, &error));  // kept, without a view, until it comes back
+        QCOMPARE(second.snapshots().size(), std::size_t(2));
+        QCOMPARE(second.snapshots()[0].view, -1);
+        for (int k = 0; k < 4; ++k) second.session().undoStack()->undo();
+        QCOMPARE(second.session().project().views[1].name, std::string("light shaft"));
+        QCOMPARE(second.snapshots().size(), std::size_t(2));
+        QCOMPARE(second.snapshots()[0].view, 1);
+        QCOMPARE(second.snapshots()[1].view, 1);
         second.compareWithSnapshot(0);
         QVERIFY(second.frames()[1].snapshot == second.snapshots()[0].image);
         QTRY_VERIFY_WITH_TIMEOUT(second.settled(), 120000);
