@@ -30,8 +30,8 @@ class Animation : public QObject {
 public:
     explicit Animation(Session& session, QObject* parent = nullptr);
 
-    // Whether the views have caught up with the last advance; play advances only then (MainWindow: every fast view has
-    // delivered an image of the current state, a progressive one its first pass).
+    // Whether the views have caught up with the last advance; play advances only then (RenderScheduler::viewsCaughtUp:
+    // every fast view has delivered an image of the current state, a progressive one its first pass).
     void setViewsReady(std::function<bool()> ready) { viewsReady_ = std::move(ready); }
 
     bool available() const;  // the project has a particle medium
@@ -63,7 +63,7 @@ public:
 
 signals:
     void playingChanged(bool playing);
-    void advancing(bool during);  // around each edit of play (MainWindow restarts a progressive view's render)
+    void advancing(bool during);  // around each edit of play (RenderScheduler restarts a progressive view's render)
     void refused(const QString& reason);  // play stopped: an advance was refused (the simulation's limits)
 
 private:

@@ -28,7 +28,7 @@ struct ViewFrame {
     QString technique;                        // display name
     std::shared_ptr<const Image> image;       // the technique's latest image (null: not rendered yet)
     std::shared_ptr<const Image> reference;   // the reference of the view's part (null: not rendered yet)
-    // Staleness: `state` identifies the current state of the view's part of the scene (MainWindow hashes it); the image
+    // Staleness: `state` identifies the current state of the view's part of the scene (RenderScheduler hashes it); the image
     // and the reference carry the state they render. A comparison against the reference is made only between an image
     // and a reference of one state: the newest such pair, which is the current one or, after an edit of the part, the
     // last one that matched (stale) until the new reference arrives.

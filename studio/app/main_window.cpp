@@ -16,8 +16,6 @@
 #include <QMimeData>
 #include <QShowEvent>
 #include <QComboBox>
-#include <QCryptographicHash>
-#include <QDateTime>
 #include <QDesktopServices>
 #include <QDialog>
 #include <QInputDialog>
@@ -25,11 +23,9 @@
 #include <QMenu>
 #include <QScrollArea>
 #include <QUrl>
-#include <QThreadPool>
 
 #include <QSettings>
 #include <QSignalBlocker>
-#include <QStandardPaths>
 #include <QDir>
 #include <QDockWidget>
 #include <QFileDialog>
@@ -44,9 +40,6 @@
 #include <QMessageBox>
 #include <QPushButton>
 #include <QVBoxLayout>
-#include <QPointer>
-#include <QProgressDialog>
-#include <QSaveFile>
 #include <QStatusBar>
 #include <QTableWidget>
 #include <QToolBar>
@@ -57,7 +50,6 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <optional>

@@ -23,8 +23,8 @@ namespace {
 constexpr int kDebounceMs = 300;
 
 // What a view's render depends on in the scene: the camera, the surfaces and its part's lights and media, as JSON.
-std::string partKeyOf(const Project& project, const View& view) {
-    nlohmann::json j = projectToJson(project);
+// `j` is projectToJson(project), made once for all the views of an edit (a drag edits the scene at every step).
+std::string partKeyOf(const nlohmann::json& j, const Project& project, const View& view) {
     ScenePart part;
     try {
         part = resolvePart(project, view);
@@ -97,8 +97,9 @@ void RenderScheduler::reset() {
     partKeys_.clear();
     viewKeys_.clear();
     states_.clear();
+    const nlohmann::json json = projectToJson(project);
     for (const View& v : project.views) {
-        partKeys_.push_back(partKeyOf(project, v));
+        partKeys_.push_back(partKeyOf(json, project, v));
         viewKeys_.push_back(viewKeyOf(v));
         states_.push_back(stateOfKey(partKeys_.back()));
     }
@@ -131,6 +132,7 @@ void RenderScheduler::viewEdited(int view) {
 
 void RenderScheduler::sceneEdited() {
     const Project& project = session_.project();
+    const nlohmann::json json = projectToJson(project);
     for (int i = 0; i < int(partKeys_.size()) && i < int(project.views.size()); ++i) {
         const View& view = project.views[std::size_t(i)];
         const std::string viewKey = viewKeyOf(view);
@@ -138,7 +140,7 @@ void RenderScheduler::sceneEdited() {
             viewKeys_[std::size_t(i)] = viewKey;
             dirtyViews_.insert(i);
         }
-        const std::string key = partKeyOf(project, view);
+        const std::string key = partKeyOf(json, project, view);
         if (key == partKeys_[std::size_t(i)]) continue;
         partKeys_[std::size_t(i)] = key;
         states_[std::size_t(i)] = stateOfKey(key);
@@ -224,7 +226,8 @@ QString RenderScheduler::referenceCacheFolder() {
 QString RenderScheduler::referenceCachePath(int view) const {
     // Everything the reference's image depends on: its part of the scene, the reference settings (in the part key),
     // where relative files resolve, and the renderer's version.
-    const std::string key = partKeyOf(session_.project(), session_.project().views[std::size_t(view)]) + "|" +
+    // (The part key is current: reset() and sceneEdited() keep it, synchronously with the session's edits.)
+    const std::string key = partKeys_[std::size_t(view)] + "|" +
                             QFileInfo(session_.path()).absolutePath().toStdString() + "|" + tyndallVersion();
     const QByteArray hash = QCryptographicHash::hash(QByteArray::fromStdString(key), QCryptographicHash::Sha1).toHex();
     return referenceCacheFolder() + "/" + QString::fromLatin1(hash) + ".exr";
