@@ -147,8 +147,8 @@ TEST(ProjectText, OneValueEditIsAOneLineDiff) {
          R"(      "intensity": [3.0, 1.5, 0.7])"},
         {"default.json", "camera.fovY=50", R"(    "fovY": 62.0,)", R"(    "fovY": 50.0,)"},
         {"default.json", "views[everything].exposure=-2",
-         R"(    {"name": "everything", "technique": "reference", "exposure": 0.0},)",
-         R"(    {"name": "everything", "technique": "reference", "exposure": -2.0},)"},
+         R"(    {"name": "everything", "technique": "reference", "parameters": {"distanceSampling": "mis"}, "exposure": 0.0},)",
+         R"(    {"name": "everything", "technique": "reference", "parameters": {"distanceSampling": "mis"}, "exposure": -2.0},)"},
         // A key the view leaves out is added on its line.
         {"default.json", "views[glow].exposure=1",
          R"(    {"name": "glow", "technique": "reference", "parameters": {"distanceSampling": "distance"}, "lights": ["lamp"], "media": ["fog"]})",

@@ -1103,7 +1103,7 @@ private slots:
         const QList<QByteArray> first = lines();
         QCOMPARE(changed(original, first),
                  (QList<QByteArray>{R"(    "width": 96,)", R"(    "height": 72)",
-                                    R"(    {"name": "everything", "technique": "reference", "exposure": 1.5},)",
+                                    R"(    {"name": "everything", "technique": "reference", "parameters": {"distanceSampling": "mis"}, "exposure": 1.5},)",
                                     R"(  "reference": {"mode": "single", "maxDepth": 16, "spp": 8, "seed": 1})"}));
         window_->session().setExposure(3, -0.5);  // "glow" gives no exposure: it is added on its line
         QVERIFY2(window_->session().save(&error), qPrintable(error));
