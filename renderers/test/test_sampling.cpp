@@ -1,9 +1,11 @@
 // Tests of the sampling math shared by GLSL and C++: the chi-square helpers of stats.h themselves, the direction
-// samplers and frames of shaders/shared/sampling.h, equiangular and spherical-triangle sampling, the GGX and Lambertian
+// samplers and frames of shaders/shared/sampling.h, equiangular and spherical-triangle sampling, the jitter about a
+// point light's image of singular_pixel.h, the GGX and Lambertian
 // BSDFs of bsdf.h (normalisation, furnace tests, samplers), and the random numbers of rng.h (PCG32, Sobol nets).
 #include "shared/bsdf.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
+#include "shared/singular_pixel.h"
 
 #include "stats.h"
 
@@ -449,6 +451,99 @@ double solidAngle(const dvec3& p0, const dvec3& p1, const dvec3& p2) {
 // sphericalTriangleSolidAngle against (1) Girard's theorem in double, tolerance 2e-6 + 1e-5 relative (float
 // evaluation), and (2) a Monte Carlo estimate, 4 pi times the fraction of 2M uniform directions that hit the planar
 // triangle, within 5 binomial standard errors (two-sided probability 6e-7 per triangle).
+// ---------------------------------------------------------------------------------------------------------------------
+// The pixel around a point light's image (singular_pixel.h)
+
+// The integral of 1 / |x - p| over [x0, x1] x [y0, y1] in closed form: over a rectangle [0, a] x [0, b] with p at its
+// corner it is a asinh(b / a) + b asinh(a / b), and any rectangle is a signed sum of four such, one per corner.
+double inverseDistanceIntegral(const glm::dvec2& p, double x0, double x1, double y0, double y1) {
+    const auto corner = [&](double x, double y) {
+        const double a = std::abs(x - p.x), b = std::abs(y - p.y);
+        const double value = (a > 0.0 && b > 0.0) ? a * std::asinh(b / a) + b * std::asinh(a / b) : 0.0;
+        return (x < p.x ? -1.0 : 1.0) * (y < p.y ? -1.0 : 1.0) * value;
+    };
+    return corner(x1, y1) - corner(x0, y1) - corner(x1, y0) + corner(x0, y0);
+}
+
+// Points in and around pixel (2, 5): inside, on an edge, at a corner, just outside, diagonally outside, 3.5 px away.
+const std::vector<glm::vec2> kSingularPoints = {{2.31f, 5.72f}, {2.0f, 5.4f},  {3.0f, 6.0f},
+                                                {3.2f, 5.5f},   {1.5f, 4.3f}, {5.8f, 3.9f}};
+
+TEST(SingularPixel, MeasureIsTheIntegralOfOneOverDistance) {
+    for (const glm::vec2& p : kSingularPoints) {
+        const double exact = inverseDistanceIntegral(glm::dvec2(p), 2.0, 3.0, 5.0, 6.0);
+        EXPECT_NEAR(sh::singularPixelMeasure(2, 5, p), exact, 2e-6 * exact) << p.x << ", " << p.y;
+    }
+}
+
+// One accepted point about p (the first try with u, then independent numbers), as the reference jitters.
+sh::vec3 singularJitter(int px, int py, const glm::vec2& p, sh::Pcg32& rng, int& tries) {
+    const float measure = sh::singularPixelMeasure(px, py, p);
+    for (tries = 1;; ++tries) {
+        const glm::vec2 q = sh::singularPixelTry(px, py, p, nextVec2(rng));
+        if (q.x >= float(px) && q.x <= float(px + 1) && q.y >= float(py) && q.y <= float(py + 1))
+            return sh::vec3(q, measure * glm::length(q - p));
+    }
+}
+
+// The accepted points have the density 1 / (M |x - p|) over the pixel; the expected counts come from the closed form.
+TEST(SingularPixel, AcceptedPointsHaveTheDensityOneOverDistance) {
+    const int n = 200000;
+    const double alpha = kFamilyAlpha / double(kSingularPoints.size());
+    for (const glm::vec2& p : kSingularPoints) {
+        SCOPED_TRACE(std::to_string(p.x) + ", " + std::to_string(p.y));
+        sh::Pcg32 rng = sh::pcg32Seed(17u, 3u);
+        test::Grid2D grid{2.0, 3.0, 12, 5.0, 6.0, 12};
+        test::Histogram2D histogram(grid);
+        long tries = 0;
+        for (int i = 0; i < n; ++i) {
+            int t = 0;
+            const sh::vec3 x = singularJitter(2, 5, p, rng, t);
+            tries += t;
+            histogram.add(x.x, x.y);
+        }
+        EXPECT_EQ(histogram.outside, 0);
+        const double measure = inverseDistanceIntegral(glm::dvec2(p), 2.0, 3.0, 5.0, 6.0);
+        std::vector<double> expected;
+        for (int ix = 0; ix < grid.nx; ++ix)
+            for (int iy = 0; iy < grid.ny; ++iy)
+                expected.push_back(n *
+                                   inverseDistanceIntegral(glm::dvec2(p), grid.xEdge(ix), grid.xEdge(ix + 1),
+                                                           grid.yEdge(iy), grid.yEdge(iy + 1)) /
+                                   measure);
+        const test::ChiSquareResult chi2 = test::chiSquareTest(histogram.counts, expected);
+        EXPECT_GT(chi2.pValue, alpha) << chi2.describe();
+        // Inside the closed pixel every try lands; outside, the acceptance is the pixel's share of the measure of the
+        // triangles facing away from p.
+        const bool inside = p.x >= 2.0f && p.x <= 3.0f && p.y >= 5.0f && p.y <= 6.0f;
+        if (inside) EXPECT_EQ(tries, n);
+        else EXPECT_GT(tries, n);
+    }
+}
+
+// The weight makes f(x) w an unbiased estimate of the pixel's average of f; for f = 1 / |x - p| it is exact.
+TEST(SingularPixel, WeightsEstimateThePixelAverage) {
+    for (const glm::vec2& p : kSingularPoints) {
+        SCOPED_TRACE(std::to_string(p.x) + ", " + std::to_string(p.y));
+        const double measure = inverseDistanceIntegral(glm::dvec2(p), 2.0, 3.0, 5.0, 6.0);
+        sh::Pcg32 rng = sh::pcg32Seed(5u, 9u);
+        const int n = 100000;
+        double sum = 0.0, sumSquares = 0.0;
+        for (int i = 0; i < n; ++i) {
+            int tries = 0;
+            const sh::vec3 x = singularJitter(2, 5, p, rng, tries);
+            const double r = glm::length(glm::dvec2(x.x, x.y) - glm::dvec2(p));
+            ASSERT_NEAR(x.z / r, measure, 1e-4 * measure);  // 1 / |x - p|: every sample is the average itself
+            // A smooth function: its average over the pixel is 1 + 2.5 + (6^3 - 5^3) / 3 / 10 = 6.5333...
+            const double f = (1.0 + double(x.x) + double(x.y) * double(x.y) / 10.0) * double(x.z);
+            sum += f;
+            sumSquares += f * f;
+        }
+        const double mean = sum / n, sigma = std::sqrt((sumSquares / n - mean * mean) / n);
+        EXPECT_NEAR(mean, 1.0 + 2.5 + (216.0 - 125.0) / 30.0, 5.0 * sigma);
+    }
+}
+
 TEST(SphericalTriangle, SolidAngleMatchesGirardAndMonteCarlo) {
     const int sampleCount = 2000000;
     for (const TriangleCase& triangle : kTriangles) {

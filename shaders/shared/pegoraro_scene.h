@@ -17,6 +17,7 @@
 #include "constants.h"
 #include "lit_intervals.h"
 #include "pegoraro.h"
+#include "singular_pixel.h"
 #include "surface.h"
 
 TY_BEGIN
@@ -103,15 +104,9 @@ TY_FUNC float pegoraroBoxExit(TY_IN(vec3) origin, TY_IN(vec3) dir, TY_IN(vec3) l
     return tNear <= tFar ? tFar : 0.0f;
 }
 
-// The pixels around a point light's projection (docs/pegoraro.md, Sec. 9). The air-light grows like 1/h near the
-// light (h the distance from the light to the ray, proportional to the distance r in the image from the light's
-// projection p), which a regular grid of samples cannot integrate. The pixel's square is split into the four triangles
-// (p, c_k, c_k+1) over its edges, signed by their orientation, so that it is covered whether p is inside or outside;
-// each triangle is mapped from [0, 1]^2 by x = p + s (c_k + t (c_k+1 - c_k) - p) (Duffy), whose Jacobian carries a
-// factor s = r / |edge point - p| that cancels the 1/r; along the edge, t = t0 + (d / L) sinh(tau) (t0 the foot of the
-// perpendicular from p, d its length, L the edge's) makes the remaining 1 / |edge point - p| uniform in tau, so that
-// thin triangles (p near an edge) are integrated as well as the others. Gauss-Legendre of order
-// kPegoraroSingularOrder in s and tau: 4 * 8 * 8 = 256 rays for such a pixel.
+// The pixels around a point light's projection (docs/pegoraro.md, Sec. 9): the four triangles of singular_pixel.h,
+// signed by their orientation so that the pixel is covered whether p is inside or outside it, each integrated by
+// Gauss-Legendre of order kPegoraroSingularOrder in s and tau: 4 * 8 * 8 = 256 rays for such a pixel.
 TY_CONST int kPegoraroSingularOrder = 8;
 TY_CONST int kPegoraroSingularNodes = 4 * kPegoraroSingularOrder * kPegoraroSingularOrder;
 
@@ -125,19 +120,6 @@ TY_FUNC vec2 pegoraroGaussNode(int i) {
     return vec2(0.5f + 0.5f * (i < 4 ? -x : x), 0.5f * w);
 }
 
-// The image point (pixel coordinates, as cameraRay takes them) where the point at `position` projects; false when it
-// is not in front of the camera.
-TY_FUNC bool pegoraroProject(TY_IN(CameraParams) cam, TY_IN(vec3) position, TY_OUT(vec2) p) {
-    vec3 v = position - cam.position;
-    float z = dot(v, cam.forward);
-    p = vec2(0.0f);
-    if (!(z > 0.0f)) return false;
-    float x = dot(v, cam.right) / (z * cam.tanHalfFovY * cam.aspect);
-    float y = dot(v, cam.up) / (z * cam.tanHalfFovY);
-    p = vec2((x + 1.0f) * 0.5f * cam.width, (1.0f - y) * 0.5f * cam.height);
-    return true;
-}
-
 // True when pixel (px, py) is the pixel of a light's projection or one of its eight neighbours (and the frame has a
 // medium, which is where the 1/h peak comes from); p is then the nearest such projection.
 TY_FUNC bool pegoraroSingularPoint(TY_IN(PegoraroFrame) f, int px, int py, TY_OUT(vec2) p) {
@@ -148,7 +130,7 @@ TY_FUNC bool pegoraroSingularPoint(TY_IN(PegoraroFrame) f, int px, int py, TY_OU
     vec2 centre = vec2(float(px) + 0.5f, float(py) + 0.5f);
     for (int l = 0; l < f.lightCount; ++l) {
         vec2 q;
-        if (!pegoraroProject(f.camera, pegoraroLight(l).position, q)) continue;
+        if (!cameraProject(f.camera, pegoraroLight(l).position, q)) continue;
         vec2 cell = floor(q);
         if (abs(cell.x - float(px)) > 1.0f || abs(cell.y - float(py)) > 1.0f) continue;
         float distance = length(q - centre);
@@ -167,26 +149,11 @@ TY_FUNC vec3 pegoraroSingularNode(int px, int py, TY_IN(vec2) p, int node) {
     int n = kPegoraroSingularOrder;
     int side = node / (n * n);
     int i = (node - side * n * n) / n, j = node - side * n * n - i * n;
-    vec2 corner0 = vec2(float(px), float(py));
-    vec2 a = corner0 + vec2(side == 1 || side == 2 ? 1.0f : 0.0f, side >= 2 ? 1.0f : 0.0f);
-    vec2 b = corner0 + vec2(side == 0 || side == 1 ? 1.0f : 0.0f, side == 1 || side == 2 ? 1.0f : 0.0f);
-    vec2 e = b - a, pa = p - a;
-    float area2 = (a.x - p.x) * (b.y - p.y) - (a.y - p.y) * (b.x - p.x);  // twice the signed area of (p, a, b)
-    float L = length(e);
-    float t0 = dot(pa, e) / (L * L);
-    float d = abs(e.x * pa.y - e.y * pa.x) / L;
-    if (!(d > 1e-6f * L)) return vec3(p, 0.0f);  // p on the edge's line: the triangle is empty
-    // tau = asinh((t - t0) L / d) over t in [0, 1].
-    float xa = -t0 * L / d, xb = (1.0f - t0) * L / d;
-    float tauA = sign(xa) * log(abs(xa) + sqrt(xa * xa + 1.0f));
-    float tauB = sign(xb) * log(abs(xb) + sqrt(xb * xb + 1.0f));
+    vec2 a, b;
+    pixelEdge(px, py, side, a, b);
     vec2 gs = pegoraroGaussNode(i), gt = pegoraroGaussNode(j);
-    float tau = tauA + (tauB - tauA) * gt.x;
-    float et = exp(tau);
-    float t = t0 + d / L * 0.5f * (et - 1.0f / et);
-    float dtdtau = d / L * 0.5f * (et + 1.0f / et);
-    vec2 x = p + gs.x * (a + t * e - p);
-    return vec3(x, gs.y * gt.y * (tauB - tauA) * dtdtau * gs.x * area2);
+    vec3 x = singularTriangleMap(p, a, b, gs.x, gt.x);
+    return vec3(x.x, x.y, gs.y * gt.y * x.z);
 }
 
 #ifndef TY_PEGORARO_NO_SHADOWS
