@@ -53,10 +53,11 @@ std::vector<ParamInfo> ReferenceTechnique::parameters() const {
         i.name = "lightSampling";
         i.type = ParamType::Enum;
         i.doc =
-            "how directions to area lights are chosen: MIS of both, light sampling only, or phase/BSDF sampling "
-            "only";
-        i.enumValues = {"mis", "light", "phase"};
-        i.defaultValue = std::string("mis");
+            "how directions to area lights are chosen: auto adds phase sampling to light sampling in media with a "
+            "peaked phase function (4 pi p >= 80, HG |g| >= 0.85) and BSDF sampling on glossy surfaces; mis: MIS of "
+            "both everywhere; light sampling only; or phase/BSDF sampling only";
+        i.enumValues = {"auto", "mis", "light", "phase"};
+        i.defaultValue = std::string("auto");
         p.push_back(i);
     }
     {
@@ -89,7 +90,8 @@ IntegratorOptions optionsFrom(const ParamSet& params) {
     const std::string& l = params.getEnum("lightSampling");
     o.light = l == "light"   ? reference::LightStrategy::LightSampling
               : l == "phase" ? reference::LightStrategy::PhaseSampling
-                             : reference::LightStrategy::Mis;
+              : l == "mis"   ? reference::LightStrategy::Mis
+                             : reference::LightStrategy::Auto;
     return o;
 }
 
