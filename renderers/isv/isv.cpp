@@ -71,7 +71,12 @@ Support IsvTechnique::supports(const HomogeneousMedium& medium) const {
                        "' is homogeneous; ISV renders particle media (LTSD, WVDS and Pegoraro render homogeneous ones)");
 }
 
-Support IsvTechnique::supports(const ParticleMedium&) const {
+Support IsvTechnique::supports(const ParticleMedium& medium) const {
+    const Rgb& e = medium.extinction;
+    if (e.x != e.y || e.y != e.z)
+        return Support::no("the particle medium '" + medium.name +
+                           "' has a chromatic extinction; ISV renders grey extinction (one value for all channels), "
+                           "as the thesis does: coloured shadows are not implemented yet (the reference renders them)");
     return Support::yes();
 }
 

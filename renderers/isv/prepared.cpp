@@ -172,7 +172,7 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
             q.v2 = glm::vec3(v[2]);
             q.v3 = glm::vec3(v[3]);
             q.centre = glm::vec3(particle.centre);
-            q.sigma = float(medium.extinction * particle.extinctionMultiplier);
+            q.sigma = float(medium.extinction.x * particle.extinctionMultiplier);  // grey: supports() refuses others
             const double u = particle.scale * particle.falloff;
             q.k = float(50.0 / (u * u));
             q.medium = int(m);

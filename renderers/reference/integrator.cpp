@@ -190,7 +190,7 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
             double u = p.scale * p.falloff;
             PreparedParticle pp;
             pp.centre = toVec3(p.centre);
-            pp.sigma = float(m.extinction * p.extinctionMultiplier);
+            pp.sigma = toVec3(m.extinction * p.extinctionMultiplier);
             pp.k = float(50.0 / (u * u));
             rs->elements.push_back(MediumElement{index, int(rs->particles.size())});
             rs->particles.push_back(pp);
@@ -317,7 +317,7 @@ void Integrator::buildSegment(const vec3& origin, const vec3& dir, float tMax, S
 }
 
 // The extinction of one particle at x (ISV thesis (004), Eq. 9 written with the distance to the centre).
-static float particleExtinction(const PreparedParticle& p, const vec3& x) {
+static vec3 particleExtinction(const PreparedParticle& p, const vec3& x) {
     vec3 d = x - p.centre;
     return p.sigma * std::exp(-p.k * glm::dot(d, d));
 }
@@ -330,22 +330,22 @@ vec3 Integrator::sigmaT(const Segment& segment, float t) const {
         if (s.particle < 0)
             sum += scene_.media[s.medium].sigma_t;
         else
-            sum += vec3(particleExtinction(scene_.particles[s.particle], x));
+            sum += particleExtinction(scene_.particles[s.particle], x);
     }
     return sum;
 }
 
 // Integral of the Gaussian-faded extinction of a particle over [a, b] of the ray: with t_c the ray parameter closest to
 // the centre and h its distance, sigma e^{-k h^2} sqrt(pi/k)/2 [erf(sqrt(k)(b - t_c)) - erf(sqrt(k)(a - t_c))]
-// (ISV thesis (004), Eq. 10, derived in docs/reference.md).
-static double particleOpticalDepth(const PreparedParticle& p, const vec3& origin, const vec3& dir, double a, double b) {
+// (ISV thesis (004), Eq. 10, derived in docs/reference.md), per channel.
+static vec3 particleOpticalDepth(const PreparedParticle& p, const vec3& origin, const vec3& dir, double a, double b) {
     glm::dvec3 oc = glm::dvec3(p.centre) - glm::dvec3(origin);
     glm::dvec3 d(dir);
     double tc = glm::dot(oc, d);
     double h2 = std::max(0.0, glm::dot(oc, oc) - tc * tc);
     double sk = std::sqrt(double(p.k));
     double gauss = std::erf(sk * (b - tc)) - std::erf(sk * (a - tc));
-    return double(p.sigma) * std::exp(-double(p.k) * h2) * 0.5 * std::sqrt(M_PI) / sk * gauss;
+    return p.sigma * float(std::exp(-double(p.k) * h2) * 0.5 * std::sqrt(M_PI) / sk * gauss);
 }
 
 vec3 Integrator::opticalDepth(const Segment& segment, float a, float b) const {
@@ -359,7 +359,7 @@ vec3 Integrator::opticalDepth(const Segment& segment, float a, float b) const {
             for (int c = 0; c < 3; ++c)
                 if (st[c] > 0.0f) tau[c] += st[c] * length;  // length may be infinite; 0 * inf must stay 0
         } else {
-            tau += vec3(float(particleOpticalDepth(scene_.particles[s.particle], segment.origin, segment.dir, lo, hi)));
+            tau += particleOpticalDepth(scene_.particles[s.particle], segment.origin, segment.dir, lo, hi);
         }
     }
     return tau;
@@ -394,7 +394,7 @@ bool Integrator::sampleCollision(const Segment& segment, SampleStream& samples, 
     thread_local std::vector<Event> events;
     events.clear();
     for (const Span& s : segment.spans) {
-        float majorant = s.particle < 0 ? scene_.media[s.medium].sigma_t[channel] : scene_.particles[s.particle].sigma;
+        float majorant = s.particle < 0 ? scene_.media[s.medium].sigma_t[channel] : scene_.particles[s.particle].sigma[channel];
         if (majorant <= 0.0f) continue;
         events.push_back({s.t0, majorant});
         events.push_back({s.t1, -majorant});
@@ -463,7 +463,8 @@ vec3 Integrator::sampleScatteringDirection(const Segment& segment, float t, cons
         float w = 0.0f;
         if (t >= s.t0 && t < s.t1) {
             const PreparedMedium& m = scene_.media[s.medium];
-            w = average(m.sigma_s) * (s.particle < 0 ? 1.0f : particleExtinction(scene_.particles[s.particle], x));
+            w = s.particle < 0 ? average(m.sigma_s)
+                               : average(m.sigma_s * particleExtinction(scene_.particles[s.particle], x));
         }
         weights.push_back(w);
         total += w;
@@ -495,7 +496,8 @@ float Integrator::scatteringDirectionPdf(const Segment& segment, float t, float 
     for (const Span& s : segment.spans) {
         if (t < s.t0 || t >= s.t1) continue;
         const PreparedMedium& m = scene_.media[s.medium];
-        float w = average(m.sigma_s) * (s.particle < 0 ? 1.0f : particleExtinction(scene_.particles[s.particle], x));
+        float w = s.particle < 0 ? average(m.sigma_s)
+                                 : average(m.sigma_s * particleExtinction(scene_.particles[s.particle], x));
         total += w;
         weighted += w * shader::phaseEval(m.phase, mu);
     }

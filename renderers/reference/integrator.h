@@ -45,7 +45,7 @@ constexpr float kPeakedPhase = 80.0f;
 
 struct PreparedParticle {
     vec3 centre{0.0f};
-    float sigma = 0.0f;    // 1/m at the centre: extinction * multiplier
+    vec3 sigma{0.0f};      // 1/m at the centre, per channel: extinction * multiplier
     float k = 0.0f;        // 50 / u^2, 1/m^2 (ISV thesis, Eq. 9)
 };
 

@@ -382,8 +382,8 @@ ParticleMedium readParticleMedium(const JsonField& f) {
     f.expectObject(keyNames(K::ParticleMedium));
     ParticleMedium medium;
     medium.name = readName(f);
-    medium.extinction = f["extinction"].numberOr(medium.extinction);
-    requireInRange(f["extinction"], medium.extinction, 0.0, kMaxCoefficient);
+    medium.extinction = f["extinction"].rgbOr(medium.extinction);
+    requireEachInRange(f["extinction"], medium.extinction, 0.0, kMaxCoefficient);
     medium.albedo = f["albedo"].rgbOr(medium.albedo);
     requireEachInRange(f["albedo"], medium.albedo, 0.0, 1.0);
     medium.phase = readPhase(f["phase"]);

@@ -119,7 +119,7 @@ json toJson(const ParticleMedium& medium) {
     for (const Particle& p : medium.particles)
         particles.push_back(toJson(p));
     json j = {{"name", medium.name},
-              {"extinction", medium.extinction},
+              {"extinction", toJson(medium.extinction)},
               {"albedo", toJson(medium.albedo)},
               {"phase", toJson(medium.phase)},
               {"particles", particles}};

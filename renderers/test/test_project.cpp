@@ -534,7 +534,30 @@ TEST(ProjectLoad, RejectsNegativeCoefficients) {
         },
         "media[0].sigma_a", "each component must be in [0, 1e+06], got [0.1, -1, 0]"));
     EXPECT_TRUE(failsAt([](json& j) { j["particleMedia"][0]["extinction"] = -2; }, "particleMedia[0].extinction",
-                        "must be in [0, 1e+06], got -2"));
+                        "each component must be in [0, 1e+06], got [-2, -2, -2]"));
+    EXPECT_TRUE(failsAt([](json& j) { j["particleMedia"][0]["extinction"] = json::array({1.5, -0.5, 1}); },
+                        "particleMedia[0].extinction", "each component must be in [0, 1e+06], got [1.5, -0.5, 1]"));
+}
+
+// A particle medium's extinction is one number (grey) or an RGB triple (chromatic: coloured shadows); both load and
+// survive a save (an edit elsewhere keeps the number as it was written: updateProjectText).
+TEST(ProjectLoad, ParticleExtinctionIsGreyOrChromatic) {
+    const std::string grey = R"({"tyndall": 1, "camera": {"width": 8, "height": 6},
+        "particleMedia": [{"name": "smoke", "extinction": 2.5, "particles": [{"centre": [0, 0, -3]}]}],
+        "views": [{"name": "v", "technique": "reference"}]})";
+    const Project a = parseProject(grey, "grey.json");
+    EXPECT_EQ(a.scene.particleMedia[0].extinction, Rgb(2.5));
+    std::string chromatic = grey;
+    chromatic.replace(chromatic.find("2.5"), 3, "[2.5, 1, 0.25]");
+    const Project b = parseProject(chromatic, "chromatic.json");
+    EXPECT_EQ(b.scene.particleMedia[0].extinction, Rgb(2.5, 1.0, 0.25));
+    for (const Project* p : {&a, &b})
+        EXPECT_EQ(projectFromJson(projectToJson(*p), "saved.json").scene.particleMedia[0].extinction,
+                  p->scene.particleMedia[0].extinction);
+    Project edited = a;
+    edited.scene.particleMedia[0].albedo = Rgb(0.5);
+    const std::string text = updateProjectText(ProjectFile{"grey.json", grey, a}, edited);
+    EXPECT_NE(text.find("\"extinction\": 2.5,"), std::string::npos) << text;
 }
 
 TEST(ProjectLoad, RejectsBothCoefficientForms) {

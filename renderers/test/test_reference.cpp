@@ -276,12 +276,13 @@ TEST(ReferenceSingleScattering, DirectionalLightInBoxMatchesQuadrature) {
 
 // A particle medium: the extinction of one tetrahedral particle fades as a Gaussian from its centre (ISV thesis Eq. 9).
 // The reference's closed-form optical depth and its delta tracking against the particle's majorant must reproduce
-// quadrature of the extinction field.
+// quadrature of the extinction field. The extinction is chromatic, so each channel has its own transmittance on both
+// legs (the coloured shadows ISV's thesis does not have) and delta tracking its own majorant.
 TEST(ReferenceSingleScattering, ParticleMediumMatchesQuadrature) {
     Scene scene = emptyScene();
     ParticleMedium smoke;
     smoke.name = "smoke";
-    smoke.extinction = 1.5;
+    smoke.extinction = Rgb(1.5, 0.9, 0.4);
     smoke.albedo = Rgb(0.9, 0.7, 0.5);
     smoke.phase.kind = PhaseKind::HenyeyGreenstein;
     smoke.phase.g = 0.3;
@@ -313,14 +314,14 @@ TEST(ReferenceSingleScattering, ParticleMediumMatchesQuadrature) {
         return true;
     };
     const double u2 = (p.scale * p.falloff) * (p.scale * p.falloff);
-    auto sigma = [&](const glm::dvec3& x) {
-        return inside(x) ? smoke.extinction * std::exp(-50.0 * glm::dot(x - p.centre, x - p.centre) / u2) : 0.0;
+    auto sigma = [&](const glm::dvec3& x, int c) {
+        return inside(x) ? smoke.extinction[c] * std::exp(-50.0 * glm::dot(x - p.centre, x - p.centre) / u2) : 0.0;
     };
     // Optical depth by quadrature between x and y (the field is smooth inside the tetrahedron; the tolerance is tight
     // enough that the jumps at its faces are resolved by subdivision).
-    auto tau = [&](const glm::dvec3& x, const glm::dvec3& y) {
+    auto tau = [&](const glm::dvec3& x, const glm::dvec3& y, int c) {
         glm::dvec3 w = y - x;
-        return glm::length(w) * adaptiveSimpson([&](double s) { return sigma(x + s * w); }, 0.0, 1.0, 1e-9, 256);
+        return glm::length(w) * adaptiveSimpson([&](double s) { return sigma(x + s * w, c); }, 0.0, 1.0, 1e-9, 256);
     };
 
     const glm::dvec3 o(0.0, 0.0, 0.0), d = glm::normalize(glm::dvec3(0.02, 0.01, -1.0));
@@ -328,13 +329,13 @@ TEST(ReferenceSingleScattering, ParticleMediumMatchesQuadrature) {
     for (int c = 0; c < 3; ++c) {
         auto f = [&](double t) {
             glm::dvec3 x = o + t * d;
-            double s = sigma(x);
+            double s = sigma(x, c);
             if (s == 0.0) return 0.0;
             glm::dvec3 toLight = light.position - x;
             double r = glm::length(toLight);
             double mu = glm::dot(d, toLight / r);
-            return std::exp(-tau(o, x)) * smoke.albedo[c] * s * phaseValue(smoke.phase, mu) * light.intensity[c] /
-                   (r * r) * std::exp(-tau(x, light.position));
+            return std::exp(-tau(o, x, c)) * smoke.albedo[c] * s * phaseValue(smoke.phase, mu) * light.intensity[c] /
+                   (r * r) * std::exp(-tau(x, light.position, c));
         };
         exact[c] = adaptiveSimpson(f, 1.5, 4.5, 1e-8);
     }

@@ -110,6 +110,7 @@ struct HomogeneousMedium {
 // One tetrahedral particle of an ISV particle medium (ISV thesis, Sec. 3.8 and 3.16). The tetrahedron is regular, its
 // vertices at distance `scale` from the centre. Inside it the extinction is
 //   sigma_t(x) = medium.extinction * extinctionMultiplier * exp(-50 |x - centre|^2 / u^2),  u = scale * falloff,
+// per channel (a chromatic extinction colours what the medium transmits, and so its shadows),
 // (Eq. 9 of the thesis, written with the distance to the centre), and zero outside.
 struct Particle {
     Vec3 centre{0.0};                            // m
@@ -157,7 +158,7 @@ std::vector<Particle> simulateParticles(std::vector<Particle> particles, const P
 
 struct ParticleMedium {
     std::string name;         // unique among media
-    double extinction = 1.0;  // 1/m, base extinction sigma, >= 0
+    Rgb extinction{1.0};      // 1/m, base extinction sigma per channel (one number: grey), each >= 0
     Rgb albedo{0.8};          // single-scattering albedo rho, each in [0, 1]
     PhaseFunction phase;
     std::vector<Particle> particles;             // explicit particles ...

@@ -292,7 +292,7 @@ Scene cloudScene(int count, bool floor, int width = 48, int height = 36) {
     s.camera.height = height;
     ParticleMedium m;
     m.name = "smoke";
-    m.extinction = 1.5;
+    m.extinction = Rgb(1.5);
     m.albedo = Rgb(0.9, 0.85, 0.8);
     m.phase.kind = PhaseKind::IsoHgMix;
     m.phase.a = 0.7;
@@ -509,6 +509,13 @@ TEST(IsvTechnique, RefusesWhatItCannotRender) {
     gobo.name = "beam";
     gobo.gobo = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)};
     EXPECT_FALSE(t.supports(gobo).supported);
+    ParticleMedium tinted;
+    tinted.name = "smoke";
+    EXPECT_TRUE(t.supports(tinted).supported);
+    tinted.extinction = Rgb(1.5, 1.0, 0.5);
+    const Support chromatic = t.supports(tinted);
+    EXPECT_FALSE(chromatic.supported);
+    EXPECT_NE(chromatic.reason.find("chromatic extinction"), std::string::npos) << chromatic.reason;
 
     Scene two = cloudScene(4, false);
     two.directionalLights.push_back(two.directionalLights.front());
