@@ -543,6 +543,67 @@ TEST(ReferenceMultipleScattering, StrategiesAgree) {
     }
 }
 
+// Single scattering on a glossy floor seen through fog, lit by an area light: `auto` light sampling keeps BSDF sampling
+// on the GGX floor but draws no delta-tracking collision on the camera segment (no light uses one), so the floor is
+// reached with probability 1 and its BSDF-sampled light must not be divided by a reach probability. Against MIS of
+// everything and light sampling alone, within 4 combined standard errors. (Dividing by the mean transmittance, about
+// e^-0.67 here, made `auto` 17 % too bright.)
+TEST(ReferenceSingleScattering, AutoLightSamplingOnAGlossyFloorInFog) {
+    Scene scene = emptyScene();
+    HomogeneousMedium fog = hgFog(Rgb(0.3, 0.35, 0.4), Rgb(0.05), 0.3);
+    fog.shape = MediumShape::Box;
+    fog.box.centre = Vec3(0.0, 1.0, -3.0);
+    fog.box.size = Vec3(6.0, 3.0, 6.0);
+    scene.media.push_back(fog);
+    AreaLight panel;
+    panel.name = "panel";
+    panel.vertices = {Vec3(-0.5, 2.0, -4.5), Vec3(0.5, 2.0, -4.5), Vec3(0.5, 2.0, -3.5), Vec3(-0.5, 2.0, -3.5)};
+    panel.radiance = Rgb(8.0);
+    scene.areaLights.push_back(panel);
+    Material metal;
+    metal.name = "metal";
+    metal.kind = Material::Kind::GGX;
+    metal.f0 = Rgb(0.9, 0.8, 0.6);
+    metal.alphaX = metal.alphaY = 0.15;
+    scene.materials.push_back(metal);
+    Mesh floor;
+    floor.name = "floor";
+    floor.source = Mesh::Source::Plane;
+    floor.transform.scale = Vec3(8.0, 1.0, 8.0);
+    floor.transform.translate = Vec3(0.0, 0.0, -3.0);
+    floor.material = "metal";
+    scene.meshes.push_back(floor);
+    auto rs = reference::prepareScene(scene, ".");
+    struct Strategy {
+        const char* name;
+        reference::DistanceStrategy distance;
+        reference::LightStrategy light;
+    };
+    const Strategy strategies[] = {
+        {"MIS of all", reference::DistanceStrategy::Mis, reference::LightStrategy::Mis},
+        {"auto", reference::DistanceStrategy::Auto, reference::LightStrategy::Auto},
+        {"light sampling alone", reference::DistanceStrategy::Auto, reference::LightStrategy::LightSampling},
+    };
+    // Towards the light's mirror image in the floor, so that the glossy lobe carries much of the pixel.
+    const glm::vec3 o(0.0f, 1.0f, 0.0f), d = glm::normalize(glm::vec3(0.0f, -3.0f, -4.0f));
+    std::vector<Estimate> estimates;
+    for (const Strategy& s : strategies) {
+        IntegratorOptions options;
+        options.distance = s.distance;
+        options.light = s.light;
+        Integrator integrator(*rs, options);
+        estimates.push_back(estimateRay(integrator, o, d, 256, 4000, 11u));
+        for (int c = 0; c < 3; ++c)
+            EXPECT_LE(estimates.back().standardError[c], 0.002 * estimates.back().mean[c]) << s.name;
+    }
+    for (size_t i = 0; i < estimates.size(); ++i)
+        for (size_t j = i + 1; j < estimates.size(); ++j)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(estimates[i].mean[c], estimates[j].mean[c],
+                            4.0 * std::hypot(estimates[i].standardError[c], estimates[j].standardError[c]))
+                    << strategies[i].name << " vs " << strategies[j].name << ", channel " << c;
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Surfaces in vacuum: the reference's radiance off a Lambertian plane is albedo / pi times the irradiance at the very
 // point the camera ray hits, for scenes of 1 m and of 1 km (a scene-scaled offset of the shading point is 1e-4 of the
