@@ -448,9 +448,6 @@ double solidAngle(const dvec3& p0, const dvec3& p1, const dvec3& p2) {
     return 2.0 * std::atan2(numerator, 1.0 + glm::dot(a, b) + glm::dot(b, c) + glm::dot(c, a));
 }
 
-// sphericalTriangleSolidAngle against (1) Girard's theorem in double, tolerance 2e-6 + 1e-5 relative (float
-// evaluation), and (2) a Monte Carlo estimate, 4 pi times the fraction of 2M uniform directions that hit the planar
-// triangle, within 5 binomial standard errors (two-sided probability 6e-7 per triangle).
 // ---------------------------------------------------------------------------------------------------------------------
 // The pixel around a point light's image (singular_pixel.h)
 
@@ -465,7 +462,7 @@ double inverseDistanceIntegral(const glm::dvec2& p, double x0, double x1, double
     return corner(x1, y1) - corner(x0, y1) - corner(x1, y0) + corner(x0, y0);
 }
 
-// Points in and around pixel (2, 5): inside, on an edge, at a corner, just outside, diagonally outside, 3.5 px away.
+// Points in and around pixel (2, 5): inside, on an edge, at a corner, just outside, diagonally outside, 3 px away.
 const std::vector<glm::vec2> kSingularPoints = {{2.31f, 5.72f}, {2.0f, 5.4f},  {3.0f, 6.0f},
                                                 {3.2f, 5.5f},   {1.5f, 4.3f}, {5.8f, 3.9f}};
 
@@ -544,6 +541,9 @@ TEST(SingularPixel, WeightsEstimateThePixelAverage) {
     }
 }
 
+// sphericalTriangleSolidAngle against (1) Girard's theorem in double, tolerance 2e-6 + 1e-5 relative (float
+// evaluation), and (2) a Monte Carlo estimate, 4 pi times the fraction of 2M uniform directions that hit the planar
+// triangle, within 5 binomial standard errors (two-sided probability 6e-7 per triangle).
 TEST(SphericalTriangle, SolidAngleMatchesGirardAndMonteCarlo) {
     const int sampleCount = 2000000;
     for (const TriangleCase& triangle : kTriangles) {
