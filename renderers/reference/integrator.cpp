@@ -772,6 +772,13 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
         particlesOnSegment = std::any_of(segment.spans.begin(), segment.spans.end(),
                                          [](const Span& s) { return s.particle >= 0; });
         const bool phaseHere = phaseSamplingOn(segment);
+        // Per light: whether its light-targeted technique has a support on this segment (T2, and the T1 rule).
+        thread_local std::vector<char> targeted;
+        targeted.assign(std::size_t(nLights), 0);
+        for (int l = 0; l < nLights; ++l) {
+            float a, b;
+            targeted[std::size_t(l)] = lightTargetedTechnique(l, segment, a, b);
+        }
 
         // Area lights reached by the direction sampled at the previous vertex (T3 and surface BSDF sampling).
         if (pending.active) {
@@ -790,11 +797,8 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
 
         // T2: one light-targeted distance per light.
         for (int l = 0; l < nLights; ++l) {
-            float a, b;
-            bool available = lightTargetedTechnique(l, segment, a, b);
-            if (!t2Enabled(l, available)) {
-                continue;
-            }
+            const bool available = targeted[std::size_t(l)];
+            if (!t2Enabled(l, available)) continue;
             vec2 u = samples.next2D();
             float pT;
             float t = lightTargetedSample(l, segment, u.x, pT);
@@ -816,10 +820,8 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
         // T1: delta tracking; the collision is also the next vertex of the path. It is not drawn when nothing would
         // use it (single scattering from point lights under `auto`: 13 % of the time per sample on fog-point).
         bool collisionUsed = events + 1 < options_.maxDepth || phaseHere;
-        for (int l = 0; l < nLights && !collisionUsed; ++l) {
-            float a, b;
-            collisionUsed = t1Enabled(l, lightTargetedTechnique(l, segment, a, b));
-        }
+        for (int l = 0; l < nLights && !collisionUsed; ++l)
+            collisionUsed = t1Enabled(l, targeted[std::size_t(l)]);
         float tc = 0.0f;
         bool collided = options_.transmittance && collisionUsed && sampleCollision(segment, samples, tc);
         if (collided) {
@@ -827,8 +829,7 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
             float pD = distancePdf(segment, tc);
             vec3 Tc = transmittance(segment, 0.0f, tc);
             for (int l = 0; l < nLights; ++l) {
-                float a, b;
-                bool available = lightTargetedTechnique(l, segment, a, b);
+                const bool available = targeted[std::size_t(l)];
                 if (!t1Enabled(l, available)) continue;
                 LightSample ls;
                 if (!sampleLight(l, x, lightSample(l), ls)) continue;
@@ -923,8 +924,7 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
             pending.pDirection = pPhase;
             int firstArea = int(scene_.pointLights.size() + scene_.directionalLights.size());
             for (int l = firstArea; l < nLights; ++l) {
-                float a, b;
-                bool available = lightTargetedTechnique(l, segment, a, b);
+                const bool available = targeted[std::size_t(l)];
                 pending.t1[l - firstArea] = t1Enabled(l, available);
                 pending.pTargeted[l - firstArea] = t2Enabled(l, available) ? lightTargetedPdf(l, segment, tc) : 0.0f;
             }

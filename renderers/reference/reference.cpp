@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 namespace tyndall {
 
@@ -148,35 +149,36 @@ struct SingularPoints {
         }
     }
 
-    // The point that pixel (x, y) is jittered about, or false for uniform jitter: the nearest within kReach.
-    bool near(int x, int y, glm::vec2& point, float& measure) const {
+    // Pixel (x, y) prepared for jittering about the nearest point within kReach, or nothing for uniform jitter.
+    std::optional<shader::SingularPixel> near(int x, int y) const {
         float best = kReach;
-        bool found = false;
+        const glm::vec2* nearest = nullptr;
         for (const glm::vec2& p : points) {
             const glm::vec2 q = glm::clamp(p, glm::vec2(float(x), float(y)), glm::vec2(float(x + 1), float(y + 1)));
             const float d = glm::length(q - p);
             if (d <= best) {
                 best = d;
-                point = p;
-                found = true;
+                nearest = &p;
             }
         }
-        if (found) measure = shader::singularPixelMeasure(x, y, point);
-        return found && measure > 0.0f;
+        if (!nearest) return std::nullopt;
+        const shader::SingularPixel pixel = shader::singularPixelSetup(x, y, *nearest);
+        if (!(shader::singularPixelMeasure(pixel) > 0.0f)) return std::nullopt;
+        return pixel;
     }
 };
 
 // The image point of a sample of pixel (x, y) and its weight: uniform jitter, or about a singular point by rejection
 // (the first try takes the sample's Sobol pair; further tries, needed only outside the point's own pixel, take the
 // stream's extra numbers: about 54 % of the tries land just beside the point, 14 % 4 px away diagonally).
-glm::vec3 jitter(int x, int y, const glm::vec2& u, bool singular, const glm::vec2& point, float measure,
+glm::vec3 jitter(int x, int y, const glm::vec2& u, const std::optional<shader::SingularPixel>& singular,
                  reference::SampleStream& samples) {
     if (!singular) return glm::vec3(float(x) + u.x, float(y) + u.y, 1.0f);
+    const float measure = shader::singularPixelMeasure(*singular);
     glm::vec2 v = u;
     for (int attempt = 0; attempt < 256; ++attempt) {
-        const glm::vec2 q = shader::singularPixelTry(x, y, point, v);
-        if (q.x >= float(x) && q.x <= float(x + 1) && q.y >= float(y) && q.y <= float(y + 1))
-            return glm::vec3(q, measure * glm::length(q - point));
+        const glm::vec2 q = shader::singularPixelTry(*singular, v);
+        if (shader::singularPixelContains(*singular, q)) return glm::vec3(q, measure * glm::length(q - singular->p));
         v = glm::vec2(samples.extra(), samples.extra());
     }
     return glm::vec3(float(x) + u.x, float(y) + u.y, 1.0f);  // 0.86^256 = 2^-56 at worst: no measurable bias
@@ -223,15 +225,13 @@ RenderResult ReferenceTechnique::render(const RenderRequest& request, const Rend
                             const uint32_t pixelSeed =
                                 shader::hashCombine(shader::hashCombine(seed, uint32_t(x)), uint32_t(y));
                             const size_t p = size_t(y) * width + x;
-                            glm::vec2 point(0.0f);
-                            float measure = 0.0f;
-                            const bool warped = singular.near(x, y, point, measure);
+                            const std::optional<shader::SingularPixel> warped = singular.near(x, y);
                             for (int s = begin; s < end; ++s) {
                                 const uint32_t stream = uint32_t(s) & 1u;
                                 reference::SampleStream samples(shader::hashCombine(pixelSeed, stream),
                                                                 uint32_t(s) >> 1u);
                                 const glm::vec2 u = samples.next2D();
-                                const glm::vec3 image = jitter(x, y, u, warped, point, measure, samples);
+                                const glm::vec3 image = jitter(x, y, u, warped, samples);
                                 glm::vec3 origin, dir;
                                 shader::cameraRay(scene->camera, image.x, image.y, origin, dir);
                                 glm::vec3 L = image.z * integrator.radiance(origin, dir, samples);

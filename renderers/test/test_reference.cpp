@@ -497,15 +497,41 @@ Scene multipleScatteringScene() {
     return scene;
 }
 
+struct Strategy {
+    const char* name;
+    reference::DistanceStrategy distance;
+    reference::LightStrategy light;
+};
+
+// Estimates one ray with each strategy (`base` options otherwise) to 0.2 % and expects every pair to agree within 4
+// combined standard errors. Phase/BSDF sampling alone gets twice `maxBatches`: it is the weakest strategy where the
+// phase function is peaked.
+void expectStrategiesAgree(const reference::RenderScene& rs, const std::vector<Strategy>& strategies,
+                           const IntegratorOptions& base, const glm::vec3& o, const glm::vec3& d, int maxBatches,
+                           uint32_t seed) {
+    std::vector<Estimate> estimates;
+    for (const Strategy& s : strategies) {
+        IntegratorOptions options = base;
+        options.distance = s.distance;
+        options.light = s.light;
+        Integrator integrator(rs, options);
+        const int batches = s.light == reference::LightStrategy::PhaseSampling ? 2 * maxBatches : maxBatches;
+        estimates.push_back(estimateRay(integrator, o, d, 256, batches, seed));
+        for (int c = 0; c < 3; ++c)
+            EXPECT_LE(estimates.back().standardError[c], 0.002 * estimates.back().mean[c]) << s.name;
+    }
+    for (size_t i = 0; i < estimates.size(); ++i)
+        for (size_t j = i + 1; j < estimates.size(); ++j)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(estimates[i].mean[c], estimates[j].mean[c],
+                            4.0 * std::hypot(estimates[i].standardError[c], estimates[j].standardError[c]))
+                    << strategies[i].name << " vs " << strategies[j].name << ", channel " << c;
+}
+
 TEST(ReferenceMultipleScattering, StrategiesAgree) {
     Scene scene = multipleScatteringScene();
     auto rs = reference::prepareScene(scene, ".");
-    struct Strategy {
-        const char* name;
-        reference::DistanceStrategy distance;
-        reference::LightStrategy light;
-    };
-    const Strategy strategies[] = {
+    const std::vector<Strategy> strategies = {
         {"NEE with delta tracking only", reference::DistanceStrategy::Distance, reference::LightStrategy::LightSampling},
         {"NEE with equiangular only", reference::DistanceStrategy::LightTargeted, reference::LightStrategy::LightSampling},
         {"phase/BSDF sampling only", reference::DistanceStrategy::Distance, reference::LightStrategy::PhaseSampling},
@@ -515,32 +541,10 @@ TEST(ReferenceMultipleScattering, StrategiesAgree) {
     };
     const glm::vec3 o(0.0f, 1.0f, 0.0f);
     const glm::vec3 dirs[] = {glm::normalize(glm::vec3(0.0f, -0.05f, -1.0f)), glm::normalize(glm::vec3(0.1f, -0.3f, -1.0f))};
-    for (const glm::vec3& d : dirs) {
-        std::vector<Estimate> estimates;
-        for (const Strategy& s : strategies) {
-            IntegratorOptions options;
-            options.multipleScattering = true;
-            options.maxDepth = 4;
-            options.distance = s.distance;
-            options.light = s.light;
-            Integrator integrator(*rs, options);
-            // Phase/BSDF sampling alone is the weakest strategy in the g = 0.9 haze: it gets more batches to reach the
-            // same precision.
-            const int maxBatches = s.light == reference::LightStrategy::PhaseSampling ? 8000 : 4000;
-            estimates.push_back(estimateRay(integrator, o, d, 256, maxBatches, 5u));
-            for (int c = 0; c < 3; ++c)
-                EXPECT_LE(estimates.back().standardError[c], 0.002 * estimates.back().mean[c]) << s.name;
-        }
-        for (size_t i = 0; i < estimates.size(); ++i) {
-            for (size_t j = i + 1; j < estimates.size(); ++j) {
-                for (int c = 0; c < 3; ++c) {
-                    double se = std::hypot(estimates[i].standardError[c], estimates[j].standardError[c]);
-                    EXPECT_NEAR(estimates[i].mean[c], estimates[j].mean[c], 4.0 * se)
-                        << strategies[i].name << " vs " << strategies[j].name << ", channel " << c;
-                }
-            }
-        }
-    }
+    IntegratorOptions options;
+    options.multipleScattering = true;
+    options.maxDepth = 4;
+    for (const glm::vec3& d : dirs) expectStrategiesAgree(*rs, strategies, options, o, d, 4000, 5u);
 }
 
 // Single scattering on a glossy floor seen through fog, lit by an area light: `auto` light sampling keeps BSDF sampling
@@ -574,34 +578,14 @@ TEST(ReferenceSingleScattering, AutoLightSamplingOnAGlossyFloorInFog) {
     floor.material = "metal";
     scene.meshes.push_back(floor);
     auto rs = reference::prepareScene(scene, ".");
-    struct Strategy {
-        const char* name;
-        reference::DistanceStrategy distance;
-        reference::LightStrategy light;
-    };
-    const Strategy strategies[] = {
+    const std::vector<Strategy> strategies = {
         {"MIS of all", reference::DistanceStrategy::Mis, reference::LightStrategy::Mis},
         {"auto", reference::DistanceStrategy::Auto, reference::LightStrategy::Auto},
         {"light sampling alone", reference::DistanceStrategy::Auto, reference::LightStrategy::LightSampling},
     };
     // Towards the light's mirror image in the floor, so that the glossy lobe carries much of the pixel.
     const glm::vec3 o(0.0f, 1.0f, 0.0f), d = glm::normalize(glm::vec3(0.0f, -3.0f, -4.0f));
-    std::vector<Estimate> estimates;
-    for (const Strategy& s : strategies) {
-        IntegratorOptions options;
-        options.distance = s.distance;
-        options.light = s.light;
-        Integrator integrator(*rs, options);
-        estimates.push_back(estimateRay(integrator, o, d, 256, 4000, 11u));
-        for (int c = 0; c < 3; ++c)
-            EXPECT_LE(estimates.back().standardError[c], 0.002 * estimates.back().mean[c]) << s.name;
-    }
-    for (size_t i = 0; i < estimates.size(); ++i)
-        for (size_t j = i + 1; j < estimates.size(); ++j)
-            for (int c = 0; c < 3; ++c)
-                EXPECT_NEAR(estimates[i].mean[c], estimates[j].mean[c],
-                            4.0 * std::hypot(estimates[i].standardError[c], estimates[j].standardError[c]))
-                    << strategies[i].name << " vs " << strategies[j].name << ", channel " << c;
+    expectStrategiesAgree(*rs, strategies, IntegratorOptions{}, o, d, 4000, 11u);
 }
 
 // ---------------------------------------------------------------------------------------------------------------------

@@ -469,17 +469,18 @@ const std::vector<glm::vec2> kSingularPoints = {{2.31f, 5.72f}, {2.0f, 5.4f},  {
 TEST(SingularPixel, MeasureIsTheIntegralOfOneOverDistance) {
     for (const glm::vec2& p : kSingularPoints) {
         const double exact = inverseDistanceIntegral(glm::dvec2(p), 2.0, 3.0, 5.0, 6.0);
-        EXPECT_NEAR(sh::singularPixelMeasure(2, 5, p), exact, 2e-6 * exact) << p.x << ", " << p.y;
+        const float measure = sh::singularPixelMeasure(sh::singularPixelSetup(2, 5, p));
+        EXPECT_NEAR(measure, exact, 2e-6 * exact) << p.x << ", " << p.y;
     }
 }
 
 // One accepted point about p (the first try with u, then independent numbers), as the reference jitters.
 sh::vec3 singularJitter(int px, int py, const glm::vec2& p, sh::Pcg32& rng, int& tries) {
-    const float measure = sh::singularPixelMeasure(px, py, p);
+    const sh::SingularPixel pixel = sh::singularPixelSetup(px, py, p);
+    const float measure = sh::singularPixelMeasure(pixel);
     for (tries = 1;; ++tries) {
-        const glm::vec2 q = sh::singularPixelTry(px, py, p, nextVec2(rng));
-        if (q.x >= float(px) && q.x <= float(px + 1) && q.y >= float(py) && q.y <= float(py + 1))
-            return sh::vec3(q, measure * glm::length(q - p));
+        const glm::vec2 q = sh::singularPixelTry(pixel, nextVec2(rng));
+        if (sh::singularPixelContains(pixel, q)) return sh::vec3(q, measure * glm::length(q - p));
     }
 }
 

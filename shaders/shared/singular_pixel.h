@@ -76,35 +76,48 @@ TY_FUNC vec3 singularTriangleMap(TY_IN(vec2) p, TY_IN(vec2) a, TY_IN(vec2) b, fl
     return vec3(x, (tauB - tauA) * dtdtau * s * area2);
 }
 
-// The integral of 1/|x - p| over pixel (px, py), for p anywhere: the sum of its four signed triangles.
-TY_FUNC float singularPixelMeasure(int px, int py, TY_IN(vec2) p) {
-    float total = 0.0f;
+// A pixel prepared for jittering about p: the signed measures of its four triangles (singularTriangleMeasure), found
+// once per pixel rather than at every try.
+struct SingularPixel {
+    vec4 measures;  // side k in component k
+    vec2 p;
+    int px, py;
+};
+
+TY_FUNC SingularPixel singularPixelSetup(int px, int py, TY_IN(vec2) p) {
+    SingularPixel s;
+    s.p = p;
+    s.px = px;
+    s.py = py;
     for (int side = 0; side < 4; ++side) {
         vec2 a, b;
         pixelEdge(px, py, side, a, b);
-        total += singularTriangleMeasure(p, a, b);
+        s.measures[side] = singularTriangleMeasure(p, a, b);
     }
-    return total;
+    return s;
 }
 
-// One try at a point of pixel (px, py) with a density proportional to 1 / |x - p|, from u in [0, 1)^2. The triangles of
+// The integral of 1/|x - p| over the pixel, for p anywhere: the sum of its four signed triangles.
+TY_FUNC float singularPixelMeasure(TY_IN(SingularPixel) s) {
+    return s.measures.x + s.measures.y + s.measures.z + s.measures.w;
+}
+
+// Whether the image point q is in the pixel (closed): the test a try's point must pass.
+TY_FUNC bool singularPixelContains(TY_IN(SingularPixel) s, TY_IN(vec2) q) {
+    return q.x >= float(s.px) && q.x <= float(s.px + 1) && q.y >= float(s.py) && q.y <= float(s.py + 1);
+}
+
+// One try at a point of the pixel with a density proportional to 1 / |x - p|, from u in [0, 1)^2. The triangles of
 // positive orientation (all four when p is in the closed pixel; those over the edges facing away from p otherwise)
 // cover the pixel and, when p is outside, the region between p and the pixel once more; a triangle is chosen in
 // proportion to its measure m_k and (s, v) are the rest of u.x and u.y. Returns the point, which the caller rejects
-// when it falls outside the pixel (never when p is inside): the accepted points have the density
+// unless singularPixelContains it (it always does when p is inside): the accepted points have the density
 // 1 / (M |x - p|) over the pixel's unit area, M = singularPixelMeasure, so f(x) M |x - p| estimates the pixel's
 // box-filtered average of f without bias, and is exactly that average when f is proportional to 1 / |x - p|.
 // The stratification of u carries over, piecewise.
-TY_FUNC vec2 singularPixelTry(int px, int py, TY_IN(vec2) p, TY_IN(vec2) u) {
-    float m[4];
-    float positive = 0.0f;
-    for (int side = 0; side < 4; ++side) {
-        vec2 a, b;
-        pixelEdge(px, py, side, a, b);
-        m[side] = max(singularTriangleMeasure(p, a, b), 0.0f);
-        positive += m[side];
-    }
-    float target = u.x * positive, before = 0.0f;
+TY_FUNC vec2 singularPixelTry(TY_IN(SingularPixel) sp, TY_IN(vec2) u) {
+    vec4 m = max(sp.measures, vec4(0.0f));
+    float target = u.x * (m.x + m.y + m.z + m.w), before = 0.0f;
     int chosen = -1;
     for (int side = 0; side < 4; ++side) {
         if (m[side] <= 0.0f) continue;
@@ -112,11 +125,11 @@ TY_FUNC vec2 singularPixelTry(int px, int py, TY_IN(vec2) p, TY_IN(vec2) u) {
         if (target < before + m[side]) break;
         before += m[side];
     }
-    if (chosen < 0) return vec2(float(px) + u.x, float(py) + u.y);  // not reached: some triangle faces away from p
+    if (chosen < 0) return vec2(float(sp.px) + u.x, float(sp.py) + u.y);  // not reached: a triangle faces away from p
     float s = min(max((target - before) / m[chosen], 0.0f), kOneMinusEpsilon);
     vec2 a, b;
-    pixelEdge(px, py, chosen, a, b);
-    vec3 x = singularTriangleMap(p, a, b, s, u.y);
+    pixelEdge(sp.px, sp.py, chosen, a, b);
+    vec3 x = singularTriangleMap(sp.p, a, b, s, u.y);
     return vec2(x.x, x.y);
 }
 
