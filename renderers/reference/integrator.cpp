@@ -394,7 +394,8 @@ bool Integrator::sampleCollision(const Segment& segment, SampleStream& samples, 
     thread_local std::vector<Event> events;
     events.clear();
     for (const Span& s : segment.spans) {
-        float majorant = s.particle < 0 ? scene_.media[s.medium].sigma_t[channel] : scene_.particles[s.particle].sigma[channel];
+        float majorant =
+            s.particle < 0 ? scene_.media[s.medium].sigma_t[channel] : scene_.particles[s.particle].sigma[channel];
         if (majorant <= 0.0f) continue;
         events.push_back({s.t0, majorant});
         events.push_back({s.t1, -majorant});
