@@ -92,10 +92,11 @@ struct GpuRenderer::Impl {
         return *kernels.emplace(key, std::move(k)).first->second;
     }
 
-    // The proxies' pipeline: the camera's (premultiplied-under blending into RGBA) or the volumetric shadow map's
-    // (additive into R32). The phase function is a compile-time variant when the particles share one kind.
-    gpu::GraphicsPipeline& proxies(bool lightView, const std::string& defines) {
-        const std::string key = std::string(lightView ? "vsm\n" : "camera\n") + defines;
+    // The proxies' pipeline: the camera's (premultiplied-under blending into RGBA, per channel by dual-source blending
+    // for chromatic media) or the volumetric shadow map's (additive into R32, or RGBA for chromatic media). The phase
+    // function is a compile-time variant when the particles share one kind.
+    gpu::GraphicsPipeline& proxies(bool lightView, bool chromatic, const std::string& defines) {
+        const std::string key = std::string(lightView ? "vsm\n" : "camera\n") + (chromatic ? "rgb\n" : "") + defines;
         auto it = pipelines.find(key);
         if (it != pipelines.end()) return *it->second;
         const auto start = std::chrono::steady_clock::now();
@@ -107,9 +108,11 @@ struct GpuRenderer::Impl {
         desc.fragment = compileStage(lightView ? "vsm.frag.glsl" : "particle.frag.glsl", gpu::ShaderStage::Fragment,
                                      defines);
         desc.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
-        desc.colour = {lightView ? gpu::ColourAttachment{VK_FORMAT_R32_SFLOAT, gpu::Blend::additive()}
-                                 : gpu::ColourAttachment{VK_FORMAT_R32G32B32A32_SFLOAT,
-                                                         gpu::Blend::premultipliedUnder()}};
+        const VkFormat vsmFormat = chromatic ? VK_FORMAT_R32G32B32A32_SFLOAT : VK_FORMAT_R32_SFLOAT;
+        const gpu::Blend under =
+            chromatic ? gpu::Blend::premultipliedUnderPerChannel() : gpu::Blend::premultipliedUnder();
+        desc.colour = {lightView ? gpu::ColourAttachment{vsmFormat, gpu::Blend::additive()}
+                                 : gpu::ColourAttachment{VK_FORMAT_R32G32B32A32_SFLOAT, under}};
         desc.bindingCount = lightView ? 4 : 7;
         desc.pushConstantBytes = sizeof(ProxyPush);
         auto p = std::make_unique<gpu::GraphicsPipeline>(*context, desc);
@@ -153,8 +156,9 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
     auto define = [](const char* name, int value) {
         return std::string("#define ") + name + " " + std::to_string(value) + "\n";
     };
+    const bool chromatic = scene.chromatic;
     const std::string maps = define("TY_ISV_VSM", f.hasVsm) + define("TY_ISV_SHADOW_MAP", f.hasShadowMap) +
-                             define("TY_ISV_PCF", f.pcfRadius);
+                             define("TY_ISV_PCF", f.pcfRadius) + define("TY_ISV_CHROMATIC", chromatic ? 1 : 0);
     const std::string light = define("TY_ISV_LIGHT_TYPE", f.lightType);
     std::string shading = maps + light + define("TY_ISV_INTEGRATION", f.integration) +
                           define("TY_ISV_STEPS", f.steps) + define("TY_ISV_FADING", f.fading);
@@ -204,11 +208,14 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
     // 2. The volumetric shadow map: every particle drawn into each slab it meets, then the slabs summed into slices.
     const shader::IsvLightSpace& vg = scene.frame.vsm;
     const std::uint64_t vsmTexels = scene.vsm ? std::uint64_t(vg.size) * vg.size : 1;
-    gpu::Buffer vsm(ctx, vsmTexels * (scene.vsm ? vg.slices : 1) * sizeof(float));
+    const std::uint64_t vsmChannels = chromatic ? 4 : 1;  // RGB optical depth in RGBA texels, or one
+    gpu::Buffer vsm(ctx, vsmTexels * vsmChannels * (scene.vsm ? vg.slices : 1) * sizeof(float));
     if (scene.vsm) {
         const std::uint32_t slabs = std::uint32_t(vg.slices - 1);
-        gpu::RenderTarget target(ctx, std::uint32_t(vg.size), std::uint32_t(vg.size), VK_FORMAT_R32_SFLOAT, slabs);
-        gpu::GraphicsPipeline& pipeline = im.proxies(true, define("TY_ISV_FADING", f.fading));
+        gpu::RenderTarget target(ctx, std::uint32_t(vg.size), std::uint32_t(vg.size),
+                                 chromatic ? VK_FORMAT_R32G32B32A32_SFLOAT : VK_FORMAT_R32_SFLOAT, slabs);
+        gpu::GraphicsPipeline& pipeline = im.proxies(
+            true, chromatic, define("TY_ISV_FADING", f.fading) + define("TY_ISV_CHROMATIC", chromatic ? 1 : 0));
         const std::vector<const gpu::Buffer*> b{particles.get(), &order, &frame, &view};
         sliced(
             std::uint64_t(slabs) * particleCount,
@@ -230,12 +237,13 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
             },
             64, out.timings.vsmMs);
         pipeline.resetDescriptors();
-        gpu::Buffer slabBuffer(ctx, vsmTexels * slabs * sizeof(float));
+        gpu::Buffer slabBuffer(ctx, vsmTexels * vsmChannels * slabs * sizeof(float));
         gpu::ComputeKernel& sum = im.kernel("vsm_sum.comp.glsl", 2, sizeof(SumPush), false);
         out.timings.vsmMs += ctx.submitTimed([&](VkCommandBuffer cmd) {
             target.recordCopyAll(cmd, slabBuffer);
-            const SumPush push{std::uint32_t(vsmTexels), std::uint32_t(vg.slices)};
-            sum.record(cmd, {&slabBuffer, &vsm}, &push, groups(vsmTexels));
+            // Each channel sums on its own: the floats of a slab are the texels' channels, interleaved.
+            const SumPush push{std::uint32_t(vsmTexels * vsmChannels), std::uint32_t(vg.slices)};
+            sum.record(cmd, {&slabBuffer, &vsm}, &push, groups(vsmTexels * vsmChannels));
             gpu::computeToGraphicsBarrier(cmd);
         });
         sum.resetDescriptors();
@@ -301,7 +309,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
         bg.resetDescriptors();
     }
     if (particleCount > 0) {
-        gpu::GraphicsPipeline& pipeline = im.proxies(false, shading);
+        gpu::GraphicsPipeline& pipeline = im.proxies(false, chromatic, shading);
         const std::vector<const gpu::Buffer*> b{particles.get(), &order, &frame, &view, &vsm, &shadow, &surfaces};
         sliced(
             particleCount,

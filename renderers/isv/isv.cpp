@@ -71,13 +71,8 @@ Support IsvTechnique::supports(const HomogeneousMedium& medium) const {
                        "' is homogeneous; ISV renders particle media (LTSD, WVDS and Pegoraro render homogeneous ones)");
 }
 
-Support IsvTechnique::supports(const ParticleMedium& medium) const {
-    const Rgb& e = medium.extinction;
-    if (e.x != e.y || e.y != e.z)
-        return Support::no("the particle medium '" + medium.name +
-                           "' has a chromatic extinction; ISV renders grey extinction (one value for all channels), "
-                           "as the thesis does: coloured shadows are not implemented yet (the reference renders them)");
-    return Support::yes();
+Support IsvTechnique::supports(const ParticleMedium&) const {
+    return Support::yes();  // a chromatic extinction too: coloured shadows (beyond the thesis, whose are grey)
 }
 
 Support IsvTechnique::supports(const PointLight&) const {
@@ -126,7 +121,17 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
     const int width = request.scene.camera.width, height = request.scene.camera.height;
     const int ss = scene.supersampling;
 
-    const bool onGpu = settings.device != isv::Device::Cpu;
+    bool onGpu = settings.device != isv::Device::Cpu;
+    std::string fallback;
+    if (onGpu && scene.chromatic && !gpu::sharedContext()->device().dualSrcBlend) {
+        // Coloured shadows composite each channel by its own transmittance, which needs dual-source blending.
+        const std::string why = "the device '" + gpu::sharedContext()->device().name +
+                                "' has no dualSrcBlend, which ISV needs for a chromatic extinction (coloured shadows)";
+        if (settings.device == isv::Device::Gpu)
+            throw InputError(InputLocation{"", 0, 0, "device"}, why + "; set device to cpu or auto");
+        onGpu = false;
+        fallback = why + ": rendered on the CPU";
+    }
     std::vector<glm::vec4> pixels;
     std::string deviceName = "cpu";
     isv::GpuTimings timings;
@@ -176,6 +181,7 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
     meta["device"] = deviceName;
     meta["nonFiniteSamples"] = std::to_string(nonFinite);
     meta["isv:particles"] = std::to_string(scene.particles.size());
+    if (!fallback.empty()) meta["isv:fallback"] = fallback;
     if (onGpu) {
         meta["gpu:totalMs"] = formatDouble(timings.totalMs);
         meta["gpu:longestSliceMs"] = formatDouble(timings.longestSliceMs);

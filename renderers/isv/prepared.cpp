@@ -19,9 +19,9 @@ namespace tyndall::isv {
 
 // The std430 sizes the GLSL side sees (shaders/shared/isv.h).
 static_assert(sizeof(shader::IsvParticle) == 80);
-static_assert(sizeof(shader::IsvMedium) == 176);
+static_assert(sizeof(shader::IsvMedium) == 192);
 static_assert(sizeof(shader::IsvLightSpace) == 80);
-static_assert(sizeof(shader::IsvFrame) == 240 + 2 * 80 + 4 * 176);
+static_assert(sizeof(shader::IsvFrame) == 240 + 2 * 80 + 4 * 192);
 
 namespace {
 
@@ -164,6 +164,11 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
         const ParticleMedium& medium = scene.particleMedia[m];
         f.media[m].albedo = glm::vec3(medium.albedo);
         f.media[m].phase = toPhaseParams(medium.phase);
+        // The particles carry the largest channel, the medium the ratio of each channel to it (coloured shadows).
+        const Rgb& e = medium.extinction;
+        const double largest = std::max({e.x, e.y, e.z});
+        f.media[m].tint = largest > 0.0 ? glm::vec3(e / largest) : glm::vec3(1.0f);
+        if (f.media[m].tint != glm::vec3(1.0f)) p.chromatic = true;
         for (const Particle& particle : medium.allParticles()) {
             const std::array<Vec3, 4> v = tetrahedronVertices(particle);
             shader::IsvParticle q{};
@@ -172,7 +177,7 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
             q.v2 = glm::vec3(v[2]);
             q.v3 = glm::vec3(v[3]);
             q.centre = glm::vec3(particle.centre);
-            q.sigma = float(medium.extinction.x * particle.extinctionMultiplier);  // grey: supports() refuses others
+            q.sigma = float(largest * particle.extinctionMultiplier);
             const double u = particle.scale * particle.falloff;
             q.k = float(50.0 / (u * u));
             q.medium = int(m);
@@ -323,7 +328,7 @@ std::vector<float> vsmSlabsCpu(const PreparedScene& scene, int threads, const st
     const shader::IsvLightSpace& g = scene.frame.vsm;
     const int slabs = g.slices - 1;
     const std::size_t plane = std::size_t(g.size) * g.size;
-    std::vector<float> out(plane * slabs, 0.0f);
+    std::vector<float> out(plane * slabs * kVsmChannels, 0.0f);
     // Per particle its texel ranges and slab range, in grid coordinates.
     struct Footprint {
         glm::ivec2 xs, ys, slabs;
@@ -353,10 +358,15 @@ std::vector<float> vsmSlabsCpu(const PreparedScene& scene, int threads, const st
                     shader::isvGridRay(g, float(x) + 0.5f, float(y) + 0.5f, o, d, cosine);
                     const glm::vec2 t = shader::isvRayTetrahedron(p, o, d);
                     if (!(t.x < t.y)) continue;
-                    for (int j = fp.slabs.x; j <= fp.slabs.y; ++j)
-                        out[std::size_t(j) * plane + std::size_t(y) * g.size + x] += shader::isvSlabDepth(
+                    const glm::vec3 tint = scene.frame.media[p.medium].tint;
+                    for (int j = fp.slabs.x; j <= fp.slabs.y; ++j) {
+                        const float tau = shader::isvSlabDepth(
                             p, o, d, t.x, t.y, shader::isvRayDistance(g, float(j) * g.depthStep, cosine),
                             shader::isvRayDistance(g, float(j + 1) * g.depthStep, cosine), scene.frame.fading);
+                        float* texel = &out[(std::size_t(j) * plane + std::size_t(y) * g.size + x) * kVsmChannels];
+                        for (int c = 0; c < 3; ++c)
+                            texel[c] += tau * tint[c];
+                    }
                 }
         }
     });
@@ -364,7 +374,7 @@ std::vector<float> vsmSlabsCpu(const PreparedScene& scene, int threads, const st
 }
 
 std::vector<float> slicesFromSlabs(const std::vector<float>& slabs, const shader::IsvLightSpace& g) {
-    const std::size_t plane = std::size_t(g.size) * g.size;
+    const std::size_t plane = std::size_t(g.size) * g.size * kVsmChannels;
     std::vector<float> slices(plane * g.slices, 0.0f);
     for (int s = 1; s < g.slices; ++s)
         for (std::size_t i = 0; i < plane; ++i)
@@ -436,8 +446,10 @@ std::vector<glm::vec4> compositeCpu(const PreparedScene& scene, const std::vecto
                     const std::size_t pixel = std::size_t(y) * w + x;
                     const float surface = background[pixel].w;
                     if (!(t.x < t.y) || t.x >= surface) continue;
-                    const glm::vec4 s = shader::isvShade(scene.frame, p, o, d, t.x, std::min(t.y, surface));
-                    out[pixel] = glm::vec4(glm::vec3(s) + s.w * glm::vec3(out[pixel]), s.w * out[pixel].w);
+                    glm::vec3 a;
+                    const glm::vec3 c = shader::isvShade(scene.frame, p, o, d, t.x, std::min(t.y, surface), a);
+                    // The blend of particle.frag.glsl: per channel, and alpha by the mean transmittance.
+                    out[pixel] = glm::vec4(c + a * glm::vec3(out[pixel]), shader::isvMeanChannel(a) * out[pixel].w);
                 }
         }
     });
@@ -448,9 +460,10 @@ std::vector<glm::vec4> compositeCpu(const PreparedScene& scene, const std::vecto
 
 // The accessors of shaders/shared/isv.h over the maps bound to this thread.
 namespace tyndall::shader {
-float isvVsmTexel(int i) {
+vec3 isvVsmTexel(int i) {
     TY_CHECK(tyndall::isv::gVsm != nullptr, "isvVsmTexel needs an isv::MapScope on this thread");
-    return (*tyndall::isv::gVsm)[std::size_t(i)];
+    const float* texel = &(*tyndall::isv::gVsm)[std::size_t(i) * tyndall::isv::kVsmChannels];
+    return vec3(texel[0], texel[1], texel[2]);
 }
 float isvShadowTexel(int i) {
     TY_CHECK(tyndall::isv::gShadow != nullptr, "isvShadowTexel needs an isv::MapScope on this thread");

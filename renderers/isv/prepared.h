@@ -52,6 +52,7 @@ struct PreparedScene {
     GpuSurfaces surfaces;
     bool shadowMap = false;  // the opaque shadow map is needed (opaque shadows on and the scene has surfaces)
     bool vsm = false;        // the volumetric shadow map is needed (self-shadowing on and particles exist)
+    bool chromatic = false;  // a medium's extinction differs per channel: RGB transmittance (coloured shadows)
 };
 
 // Throws InputError for what ISV cannot render: no directional light or more than one, a gobo, more than
@@ -88,7 +89,9 @@ private:
 std::vector<float> shadowMapCpu(const PreparedScene& scene, int threads, const std::atomic<bool>* cancel);
 
 // The volumetric shadow map's slabs: per slab j (between slices j and j + 1) and texel, the optical depth of every
-// particle's part in it. volumetricShadowMap sums them front to back into slices (slice 0 is zero).
+// particle's part in it, per channel: kVsmChannels floats per texel (rgb, 0), as the GPU's chromatic variant stores
+// them. slicesFromSlabs sums them front to back into slices (slice 0 is zero).
+inline constexpr int kVsmChannels = 4;
 std::vector<float> vsmSlabsCpu(const PreparedScene& scene, int threads, const std::atomic<bool>* cancel);
 std::vector<float> slicesFromSlabs(const std::vector<float>& slabs, const shader::IsvLightSpace& grid);
 
@@ -96,7 +99,8 @@ std::vector<float> slicesFromSlabs(const std::vector<float>& slabs, const shader
 std::vector<glm::vec4> surfacesCpu(const PreparedScene& scene, const std::vector<float>& vsm,
                                    const std::vector<float>& shadow, int threads, const std::atomic<bool>* cancel);
 
-// The particles composited back to front over `background` (rgb, surface distance): per pixel (rgb, transmittance).
+// The particles composited back to front over `background` (rgb, surface distance): per pixel (rgb, transmittance),
+// the transmittance being the product of each fragment's mean over the channels (exact for grey media).
 std::vector<glm::vec4> compositeCpu(const PreparedScene& scene, const std::vector<glm::vec4>& background,
                                     const std::vector<float>& vsm, const std::vector<float>& shadow,
                                     const std::vector<std::uint32_t>& order, int threads,

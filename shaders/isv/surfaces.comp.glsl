@@ -15,11 +15,16 @@ layout(std430, set = 0, binding = 2) readonly buffer SurfaceTriangles { SurfaceT
 layout(std430, set = 0, binding = 3) readonly buffer Materials { MaterialParams materials[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Frame { IsvFrame frame; };
 layout(std430, set = 0, binding = 5) readonly buffer View { IsvView view; };
+#if TY_ISV_CHROMATIC
+layout(std430, set = 0, binding = 6) readonly buffer Vsm { vec4 vsm[]; };  // RGB optical depth (coloured shadows)
+vec3 isvVsmTexel(int i) { return vsm[i].xyz; }
+#else
 layout(std430, set = 0, binding = 6) readonly buffer Vsm { float vsm[]; };
+float isvVsmTexel(int i) { return vsm[i]; }
+#endif
 layout(std430, set = 0, binding = 7) readonly buffer ShadowMap { float shadowMap[]; };
 layout(std430, set = 0, binding = 8) writeonly buffer Surfaces { vec4 surfaces[]; };
 
-float isvVsmTexel(int i) { return vsm[i]; }
 float isvShadowTexel(int i) { return shadowMap[i]; }
 
 layout(push_constant) uniform Push {

@@ -7,9 +7,15 @@
 // Conventions: the camera ray is origin + t dir with t in metres along a unit dir; the light space of a directional
 // light is an orthographic grid over `right` and `up` whose depth runs along `forward`, the direction light travels.
 // The includer defines the two accessors of the light-space maps (GLSL: over storage buffers; C++: over the maps bound
-// to the calling thread, renderers/isv/cpu_model.cpp):
-//     float isvVsmTexel(int i);     // the volumetric shadow map: optical depth, slice-major (slice, row, column)
+// to the calling thread, renderers/isv/prepared.cpp):
+//     IsvRgb isvVsmTexel(int i);    // the volumetric shadow map: optical depth, slice-major (slice, row, column)
 //     float isvShadowTexel(int i);  // the opaque shadow map: depth of the first surface from the light, m
+//
+// Coloured shadows (beyond the thesis, whose extinction is grey): a medium's extinction may differ per channel. Its
+// particles then carry the largest channel as sigma and the medium a `tint` (extinction over that channel), and
+// optical depths, transmittances and the volumetric shadow map are RGB: IsvRgb. A GLSL build for media that are all
+// grey defines TY_ISV_CHROMATIC 0 (the default) and IsvRgb is one float, so that lavapipe, which pays for compiled
+// code on every fragment, does not compute three identical channels; C++ always computes RGB.
 #ifndef TY_SHARED_ISV_H
 #define TY_SHARED_ISV_H
 
@@ -18,7 +24,22 @@
 #include "phase.h"
 #include "surface.h"
 
+#ifndef __cplusplus
+#ifndef TY_ISV_CHROMATIC
+#define TY_ISV_CHROMATIC 0
+#endif
+#if TY_ISV_CHROMATIC
+#define IsvRgb vec3
+#else
+#define IsvRgb float
+#endif
+#endif
+
 TY_BEGIN
+
+#ifdef __cplusplus
+using IsvRgb = vec3;
+#endif
 
 // Integration of C_scat over a fragment's interval (parameter `integration`).
 TY_CONST int kIsvAnalytic = 0;  // Sec. 3.7: constant extinction, closed form
@@ -43,12 +64,14 @@ struct IsvParticle {
     float pad1;
 };
 
-// A particle medium's optics, std430: 176 bytes (the vec3 makes its alignment 16, so GLSL rounds 164 up).
+// A particle medium's optics, std430: 192 bytes (the vec3s make its alignment 16, so GLSL rounds 180 up).
 struct IsvMedium {
     vec3 albedo;
     float pad0;
+    vec3 tint;  // extinction per channel over its largest channel, which the particles' sigma holds: 1 when grey
+    float pad1;
     PhaseParams phase;
-    float pad1[3];
+    float pad2[3];
 };
 
 // A grid seen from the light, std430, 80 bytes: orthographic for a directional light, perspective (a frustum from the
@@ -109,8 +132,23 @@ struct IsvFrame {
 #endif
 
 // Accessors the includer defines (see the top of this file).
-float isvVsmTexel(int i);
+IsvRgb isvVsmTexel(int i);
 float isvShadowTexel(int i);
+
+// The channels of a transmittance or an optical depth, grey or RGB.
+TY_FUNC float isvMaxChannel(float x) { return x; }
+TY_FUNC float isvMaxChannel(TY_IN(vec3) x) { return max(x.x, max(x.y, x.z)); }
+TY_FUNC float isvMeanChannel(float x) { return x; }
+TY_FUNC float isvMeanChannel(TY_IN(vec3) x) { return (x.x + x.y + x.z) / 3.0f; }
+
+// A medium's extinction per channel relative to its particles' sigma (one in a grey build).
+TY_FUNC IsvRgb isvTint(TY_IN(IsvMedium) m) {
+#if defined(__cplusplus) || TY_ISV_CHROMATIC
+    return m.tint;
+#else
+    return 1.0f;
+#endif
+}
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Extinction
@@ -291,14 +329,14 @@ TY_FUNC float isvRayDistance(TY_IN(IsvLightSpace) ls, float depthPastOrigin, flo
 
 // Optical depth from the light to x: bilinear between texel centres (zero outside the grid, where no particle is),
 // linear between depth slices (Fig. 7).
-TY_FUNC float isvLightOpticalDepth(TY_IN(IsvLightSpace) ls, TY_IN(vec3) x) {
+TY_FUNC IsvRgb isvLightOpticalDepth(TY_IN(IsvLightSpace) ls, TY_IN(vec3) x) {
     vec3 c = isvGridPoint(ls, x);
     float fx = c.x - 0.5f, fy = c.y - 0.5f;
     float fs = clamp(c.z / ls.depthStep, 0.0f, float(ls.slices - 1));
     int x0 = int(floor(fx)), y0 = int(floor(fy));
     int s0 = min(int(fs), ls.slices - 2);
     float wx = fx - float(x0), wy = fy - float(y0), ws = fs - float(s0);
-    float tau = 0.0f;
+    IsvRgb tau = IsvRgb(0.0f);
     for (int corner = 0; corner < 8; ++corner) {
         int cx = x0 + (corner & 1), cy = y0 + ((corner >> 1) & 1), cs = s0 + (corner >> 2);
         if (cx < 0 || cy < 0 || cx >= ls.size || cy >= ls.size) continue;
@@ -398,8 +436,8 @@ IsvMedium isvMedium(int i);
 #endif
 
 // What every integration node of one fragment shares: the particle's extinction along the ray as
-// sigma_t(t) = peak e^(-k (t - t_c)^2) and tau_V(t0, t) = depthScale (erf(sqrt(k) (t - t_c)) - erf0) (Eq. 9-10), or
-// sigma and sigma (t - t0) without fading; tau_L at the interval's ends (Eq. 8).
+// sigma_t(t) = tint peak e^(-k (t - t_c)^2) and tau_V(t0, t) = tint depthScale (erf(sqrt(k) (t - t_c)) - erf0)
+// (Eq. 9-10), or tint sigma and tint sigma (t - t0) without fading; tau_L at the interval's ends (Eq. 8).
 struct IsvFragment {
     vec3 origin;
     vec3 dir;
@@ -408,23 +446,29 @@ struct IsvFragment {
     float peak;        // sigma e^(-k h^2)
     float depthScale;  // peak sqrt(pi / k) / 2
     float erf0;        // erf(sqrt(k) (t0 - t_c))
-    float tauL0, tauL1;
+    IsvRgb tint;       // the medium's extinction per channel over sigma
+    IsvRgb tauL0, tauL1;
     int fading;
 };
 
-TY_FUNC float isvFragmentExtinction(TY_IN(IsvFragment) g, float t) {
+// The extinction at t of the particle's largest channel (sigma's).
+TY_FUNC float isvFragmentShape(TY_IN(IsvFragment) g, float t) {
     if (g.fading == 0) return g.peak;
     float s = t - g.tc;
     return g.peak * exp(-g.k * s * s);
 }
 
-TY_FUNC float isvFragmentDepth(TY_IN(IsvFragment) g, float t) {
-    if (g.fading == 0) return g.peak * (t - g.t0);
-    return g.depthScale * max(isvErf(g.sk * (t - g.tc)) - g.erf0, 0.0f);
+TY_FUNC IsvRgb isvFragmentExtinction(TY_IN(IsvFragment) g, float t) {
+    return g.tint * isvFragmentShape(g, t);
 }
 
-// The integrand of Eq. 7 without K: sigma_t(t) T_V(t0, t) T_L(t) Vis(t), T_L by Eq. 8.
-TY_FUNC float isvIntegrand(TY_IN(IsvFrame) f, TY_IN(IsvFragment) g, float t) {
+TY_FUNC IsvRgb isvFragmentDepth(TY_IN(IsvFragment) g, float t) {
+    if (g.fading == 0) return g.tint * (g.peak * (t - g.t0));
+    return g.tint * (g.depthScale * max(isvErf(g.sk * (t - g.tc)) - g.erf0, 0.0f));
+}
+
+// The integrand of Eq. 7 without K: sigma_t(t) T_V(t0, t) T_L(t) Vis(t), T_L by Eq. 8, per channel.
+TY_FUNC IsvRgb isvIntegrand(TY_IN(IsvFrame) f, TY_IN(IsvFragment) g, float t) {
     float s = g.t1 > g.t0 ? (t - g.t0) / (g.t1 - g.t0) : 0.0f;
     float vis = 1.0f;
     if (TY_ISV_SHADOW_MAP_OF(f) != 0)
@@ -437,6 +481,9 @@ TY_FUNC float isvOneMinusExpOver(float x) {
     if (abs(x) < 1e-4f) return 1.0f - 0.5f * x;
     return (1.0f - exp(-x)) / x;
 }
+TY_FUNC vec3 isvOneMinusExpOver(TY_IN(vec3) x) {
+    return vec3(isvOneMinusExpOver(x.x), isvOneMinusExpOver(x.y), isvOneMinusExpOver(x.z));
+}
 
 // K of Eq. 7 at x: the light's irradiance there times the albedo and the phase function towards it (constant along
 // the ray for a directional light; a point light's 1/r^2, its distribution and the scattering angle vary).
@@ -446,14 +493,15 @@ TY_FUNC vec3 isvSourceFactor(TY_IN(IsvFrame) f, TY_IN(IsvMedium) m, TY_IN(vec3) 
     return e * m.albedo * phaseEval(m.phase, dot(dir, toLight));
 }
 
-// One fragment: the ray origin + t dir inside particle p over [t0, t1]. Returns (C_scat, A) for premultiplied blending
-// C_o = C_scat + A C (Sec. 3.2): C_scat of Eq. 7 (plus Eq. 11's C_mul) and A = T_V(t0, t1).
-TY_FUNC vec4 isvShade(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origin, TY_IN(vec3) dir, float t0,
-                      float t1) {
+// One fragment: the ray origin + t dir inside particle p over [t0, t1]. Returns C_scat and sets A for premultiplied
+// blending C_o = C_scat + A C (Sec. 3.2), per channel: C_scat of Eq. 7 (plus Eq. 11's C_mul) and A = T_V(t0, t1).
+TY_FUNC vec3 isvShade(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origin, TY_IN(vec3) dir, float t0,
+                      float t1, TY_OUT(IsvRgb) transmittance) {
     int integration = TY_ISV_INTEGRATION_OF(f);
     float length = t1 - t0;
-    if (integration == kIsvChord) return vec4(max(length, 0.0f), 0.0f, 0.0f, 1.0f);
-    if (!(length > 0.0f)) return vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    transmittance = IsvRgb(1.0f);
+    if (integration == kIsvChord) return vec3(max(length, 0.0f), 0.0f, 0.0f);
+    if (!(length > 0.0f)) return vec3(0.0f);
 
     IsvFragment g;
     g.origin = origin;
@@ -469,15 +517,16 @@ TY_FUNC vec4 isvShade(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origi
     g.peak = g.fading != 0 ? p.sigma * exp(-p.k * dot(perpendicular, perpendicular)) : p.sigma;
     g.depthScale = g.peak * (0.886226925f / g.sk);  // sqrt(pi) / 2
     g.erf0 = g.fading != 0 ? isvErf(g.sk * (t0 - g.tc)) : 0.0f;
-    float tauV = isvFragmentDepth(g, t1);
-    bool below = tauV < f.threshold;
-    if (integration == kIsvWasted) return below ? vec4(1.0f, 0.0f, 0.0f, 1.0f) : vec4(0.0f, 1.0f, 0.0f, 1.0f);
-    if (below) return vec4(0.0f, 0.0f, 0.0f, 1.0f);  // Sec. 3.11: set to zero, the pixel keeps what is behind
-
     IsvMedium medium = TY_ISV_MEDIUM(f, p.medium);
+    g.tint = isvTint(medium);
+    IsvRgb tauV = isvFragmentDepth(g, t1);
+    bool below = isvMaxChannel(tauV) < f.threshold;  // thin in every channel
+    if (integration == kIsvWasted) return below ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
+    if (below) return vec3(0.0f);  // Sec. 3.11: set to zero, the pixel keeps what is behind
+
     vec3 k = isvSourceFactor(f, medium, origin + (t0 + 0.5f * length) * dir, dir);  // K = R rho p(L, V), mid-interval
-    g.tauL0 = 0.0f;
-    g.tauL1 = 0.0f;
+    g.tauL0 = IsvRgb(0.0f);
+    g.tauL1 = IsvRgb(0.0f);
     if (TY_ISV_VSM_OF(f) != 0) {
         g.tauL0 = isvLightOpticalDepth(f.vsm, origin + t0 * dir);
         g.tauL1 = isvLightOpticalDepth(f.vsm, origin + t1 * dir);
@@ -496,8 +545,8 @@ TY_FUNC vec4 isvShade(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origi
         // Sec. 3.9: the first four terms of the Taylor series about the midpoint a, integrated over [t0, t1]; the odd
         // terms vanish there, leaving f(a) L + f''(a) L^3 / 24, with f'' by forward differences of step h = L / 4.
         float h = 0.25f * length, a = t0 + 0.5f * length;
-        float fa = isvIntegrand(f, g, a), fh = isvIntegrand(f, g, a + h), f2h = isvIntegrand(f, g, a + 2.0f * h);
-        integral = k * max(0.0f, fa * length + (f2h - 2.0f * fh + fa) / (h * h) * length * length * length / 24.0f);
+        IsvRgb fa = isvIntegrand(f, g, a), fh = isvIntegrand(f, g, a + h), f2h = isvIntegrand(f, g, a + 2.0f * h);
+        integral = k * max(fa * length + (f2h - 2.0f * fh + fa) / (h * h) * length * length * length / 24.0f, 0.0f);
     } else {
         // Sec. 3.10: composite Simpson over `steps` equal sub-intervals; for a point light K varies at each node.
         int n = max(TY_ISV_STEPS_OF(f), 1);
@@ -514,11 +563,13 @@ TY_FUNC vec4 isvShade(TY_IN(IsvFrame) f, TY_IN(IsvParticle) p, TY_IN(vec3) origi
     }
     vec3 colour = integral;
     if (f.multiScatter > 0.0f) {
-        // Eq. 11: C_mul = sigma_t(mid) / sigma rho R p(L, V) 0.001 m (crude, not physically based; off by default).
-        float relative = isvFragmentExtinction(g, t0 + 0.5f * length) / max(p.sigma, 1e-30f);
+        // Eq. 11: C_mul = sigma_t(mid) / sigma rho R p(L, V) 0.001 m (crude, not physically based; off by default);
+        // the ratio is the same in every channel.
+        float relative = isvFragmentShape(g, t0 + 0.5f * length) / max(p.sigma, 1e-30f);
         colour += relative * k * (0.001f * f.multiScatter);
     }
-    return vec4(colour, exp(-tauV));
+    transmittance = exp(-tauV);
+    return colour;
 }
 
 #ifdef TY_SHARED_BVH_H
@@ -533,15 +584,14 @@ TY_FUNC float isvSurfaceVisibility(TY_IN(IsvFrame) f, TY_IN(vec3) x, TY_IN(vec3)
 }
 #endif
 
-// The optical depth of particle p along a light-space ray over the slab [lo, hi] of its interval [t0, t1]: one slab's
-// share of the volumetric shadow map (each slab is accumulated, then summed front to back into slices).
+// The optical depth of particle p along a light-space ray over the slab [lo, hi] of its interval [t0, t1], of the
+// particle's largest channel (times the medium's tint per channel): one slab's share of the volumetric shadow map
+// (each slab is accumulated, then summed front to back into slices).
 TY_FUNC float isvSlabDepth(TY_IN(IsvParticle) p, TY_IN(vec3) origin, TY_IN(vec3) dir, float t0, float t1, float lo,
                            float hi, int fading) {
     return isvOpticalDepth(p, origin, dir, max(t0, lo), min(t1, hi), fading);
 }
 
-// Radiance leaving a surface point x towards wo, lit by the directional light through the opaque shadow map and the
-// medium's volumetric shadow map (Sec. 3.13).
 // Radiance leaving a surface point x towards wo, lit through the medium's volumetric shadow map (Sec. 3.13). `vis` is
 // the opaque visibility of the light: the shadow map's for a directional light (isvVisibility), a shadow ray's for a
 // point light (a single frustum cannot hold every direction around it), found by the caller.
@@ -551,7 +601,7 @@ TY_FUNC vec3 isvSurfaceRadiance(TY_IN(IsvFrame) f, TY_IN(MaterialParams) m, TY_I
     vec3 e = isvLightAt(f, x, wi);
     vec3 reflected = surfaceReflect(m, sf, wo, wi);
     if (reflected == vec3(0.0f) || vis <= 0.0f) return vec3(0.0f);
-    float tau = 0.0f;
+    IsvRgb tau = IsvRgb(0.0f);
     if (TY_ISV_VSM_OF(f) != 0) tau = isvLightOpticalDepth(f.vsm, x);
     return e * reflected * (vis * exp(-tau));
 }

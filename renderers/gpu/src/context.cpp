@@ -128,6 +128,7 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
     info.geometryShader = features.features.geometryShader == VK_TRUE;
     info.fragmentStoresAndAtomics = features.features.fragmentStoresAndAtomics == VK_TRUE;
     info.independentBlend = features.features.independentBlend == VK_TRUE;
+    info.dualSrcBlend = features.features.dualSrcBlend == VK_TRUE;
     info.timelineSemaphores = v12.timelineSemaphore == VK_TRUE;
     info.descriptorIndexing = v12.runtimeDescriptorArray == VK_TRUE && v12.descriptorBindingPartiallyBound == VK_TRUE;
     std::vector<VkExtensionProperties> extensions = deviceExtensions(device);
@@ -307,6 +308,7 @@ void Context::createDevice(bool rayQuery) {
     features.features.geometryShader = info_.geometryShader ? VK_TRUE : VK_FALSE;
     features.features.fragmentStoresAndAtomics = info_.fragmentStoresAndAtomics ? VK_TRUE : VK_FALSE;
     features.features.independentBlend = info_.independentBlend ? VK_TRUE : VK_FALSE;
+    features.features.dualSrcBlend = info_.dualSrcBlend ? VK_TRUE : VK_FALSE;
     if (info_.apiVersion >= VK_API_VERSION_1_2) features.pNext = &v12;
 
     // Ray queries need acceleration structures, which need buffer device addresses.

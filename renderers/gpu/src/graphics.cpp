@@ -29,6 +29,11 @@ bool operator==(const Blend& a, const Blend& b) {
            a.srcAlpha == b.srcAlpha && a.dstAlpha == b.dstAlpha && a.alphaOp == b.alphaOp;
 }
 
+bool isSecondSource(VkBlendFactor f) {
+    return f == VK_BLEND_FACTOR_SRC1_COLOR || f == VK_BLEND_FACTOR_ONE_MINUS_SRC1_COLOR ||
+           f == VK_BLEND_FACTOR_SRC1_ALPHA || f == VK_BLEND_FACTOR_ONE_MINUS_SRC1_ALPHA;
+}
+
 // Any earlier writer or reader of a buffer (shaders, transfers) before a transfer writes it.
 void beforeTransferWrite(VkCommandBuffer cmd) {
     VkMemoryBarrier barrier{};
@@ -247,6 +252,11 @@ VkShaderModule createModule(VkDevice device, const std::vector<std::uint32_t>& s
 
 }  // namespace
 
+bool Blend::dualSource() const {
+    return isSecondSource(srcColor) || isSecondSource(dstColor) || isSecondSource(srcAlpha) ||
+           isSecondSource(dstAlpha);
+}
+
 GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsPipelineDesc& desc)
     : context_(context), name_(desc.name), colourCount_(std::uint32_t(desc.colour.size())),
       depthFormat_(desc.depth ? std::optional<VkFormat>(desc.depth->format) : std::nullopt),
@@ -259,6 +269,9 @@ GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsPipelineDesc&
                        "' has none");
     for (const ColourAttachment& colour : desc.colour) {
         colourFormats_.push_back(colour.format);
+        if (colour.blend.enable && colour.blend.dualSource() && !device.dualSrcBlend)
+            throw GpuError("graphics pipeline " + name_ + " blends with a second fragment output; the device '" +
+                           device.name + "' has no dualSrcBlend");
         if (!(colour.blend == desc.colour[0].blend) && !device.independentBlend)
             throw GpuError("graphics pipeline " + name_ + " blends its attachments differently; the device '" +
                            device.name + "' has no independentBlend");

@@ -100,6 +100,27 @@ TEST_F(GraphicsTest, PremultipliedUnderBlendingComposesDrawsInOrder) {
     expectTexels(target.readback(), [](std::uint32_t, std::uint32_t) { return true; }, expected, expected);
 }
 
+// ISV's coloured shadows: each channel is attenuated by its own factor, the fragment's second output.
+TEST_F(GraphicsTest, DualSourceBlendingAttenuatesEachChannelByTheSecondOutput) {
+    if (!context().device().dualSrcBlend) GTEST_SKIP() << "the device has no dualSrcBlend";
+    RenderTarget target(context(), kSize, kSize, VK_FORMAT_R32G32B32A32_SFLOAT);
+    GraphicsPipeline pipeline(context(), trianglesDesc("dual_source", {{VK_FORMAT_R32G32B32A32_SFLOAT,
+                                                                         Blend::premultipliedUnderPerChannel()}}));
+    // Dyadic values again; the second output is (a, a / 2, depth, a) per draw.
+    const Rgba clear{0.5f, 0.25f, 1.0f, 1.0f};
+    const Rgba c1{0.25f, 0.5f, 0.125f, 0.5f}, c2{0.125f, 0.25f, 0.5f, 0.75f};
+    const float d1 = 0.25f, d2 = 0.125f;
+    drawEach(pipeline, target, clear, {fullScreen(c1, d1), fullScreen(c2, d2)});
+    auto factor = [](const Rgba& c, float depth, int channel) {
+        return channel == 0 ? c[3] : channel == 1 ? 0.5f * c[3] : channel == 2 ? depth : c[3];
+    };
+    Rgba expected{};
+    for (int c = 0; c < 3; ++c)
+        expected[c] = c2[c] + factor(c2, d2, c) * (c1[c] + factor(c1, d1, c) * clear[c]);
+    expected[3] = c2[3] * c1[3] * clear[3];
+    expectTexels(target.readback(), [](std::uint32_t, std::uint32_t) { return true; }, expected, expected);
+}
+
 TEST_F(GraphicsTest, AdditiveBlendingIntoASingleChannelTarget) {
     RenderTarget target(context(), kSize, kSize, VK_FORMAT_R32_SFLOAT);
     GraphicsPipeline pipeline(context(), trianglesDesc("flat_colour", {{VK_FORMAT_R32_SFLOAT, Blend::additive()}}));

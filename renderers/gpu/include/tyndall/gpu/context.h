@@ -52,6 +52,7 @@ struct DeviceInfo {
     bool geometryShader = false;
     bool fragmentStoresAndAtomics = false;  // storage buffer writes from fragment shaders
     bool independentBlend = false;          // a blend state per colour attachment
+    bool dualSrcBlend = false;              // blend factors from a second fragment output (SRC1_*)
     std::string typeName() const;
 };
 

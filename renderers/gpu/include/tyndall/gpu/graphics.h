@@ -96,6 +96,14 @@ struct Blend {
         return {true, VK_BLEND_FACTOR_ONE, VK_BLEND_FACTOR_SRC_ALPHA, VK_BLEND_OP_ADD,
                 VK_BLEND_FACTOR_ZERO, VK_BLEND_FACTOR_SRC_ALPHA, VK_BLEND_OP_ADD};
     }
+    // The same with a transmittance per channel, from the fragment's second output (dual-source blending, output
+    // `layout(location = 0, index = 1)`, needs DeviceInfo::dualSrcBlend): rgb = src.rgb + dst.rgb * src1.rgb,
+    // a = dst.a * src1.a.
+    static Blend premultipliedUnderPerChannel() {
+        return {true, VK_BLEND_FACTOR_ONE, VK_BLEND_FACTOR_SRC1_COLOR, VK_BLEND_OP_ADD,
+                VK_BLEND_FACTOR_ZERO, VK_BLEND_FACTOR_SRC1_ALPHA, VK_BLEND_OP_ADD};
+    }
+    bool dualSource() const;  // a factor reads the second output
 };
 
 struct ColourAttachment {
