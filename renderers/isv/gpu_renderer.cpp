@@ -39,7 +39,10 @@ struct SurfacePush {
 struct ProxyPush {
     std::int32_t slab;     // -1 for the camera pass
     std::int32_t ordered;  // 1: particles in the sorted order
+    std::uint32_t first;   // mesh shader: the draw's first particle (the vertex stage has gl_VertexIndex)
+    std::uint32_t count;   // mesh shader: the draw's particles
 };
+constexpr std::uint32_t kMeshParticlesPerGroup = 32;  // features/isv_proxy.mesh.glsl's workgroup
 struct SortPush {
     std::uint32_t count, k, j;
 };
@@ -95,16 +98,21 @@ struct GpuRenderer::Impl {
     // The proxies' pipeline: the camera's (premultiplied-under blending into RGBA, per channel by dual-source blending
     // for chromatic media) or the volumetric shadow map's (additive into R32, or RGBA for chromatic media). The phase
     // function is a compile-time variant when the particles share one kind.
-    gpu::GraphicsPipeline& proxies(bool lightView, bool chromatic, const std::string& defines) {
-        const std::string key = std::string(lightView ? "vsm\n" : "camera\n") + (chromatic ? "rgb\n" : "") + defines;
+    gpu::GraphicsPipeline& proxies(bool lightView, bool chromatic, bool mesh, const std::string& defines) {
+        const std::string key = std::string(lightView ? "vsm\n" : "camera\n") + (chromatic ? "rgb\n" : "") +
+                                (mesh ? "mesh\n" : "") + defines;
         auto it = pipelines.find(key);
         if (it != pipelines.end()) return *it->second;
         const auto start = std::chrono::steady_clock::now();
         gpu::GraphicsPipelineDesc desc;
         desc.name = lightView ? "isv_vsm" : "isv_particles";
-        desc.vertex = compileStage("proxy.vert.glsl", gpu::ShaderStage::Vertex, "");
-        desc.geometry = compileStage("proxy.geom.glsl", gpu::ShaderStage::Geometry,
-                                     lightView ? "#define TY_ISV_LIGHT_VIEW\n" : "");
+        const std::string view = lightView ? "#define TY_ISV_LIGHT_VIEW\n" : "";
+        if (mesh) {
+            desc.mesh = compileStage("../features/isv_proxy.mesh.glsl", gpu::ShaderStage::Mesh, view);
+        } else {
+            desc.vertex = compileStage("proxy.vert.glsl", gpu::ShaderStage::Vertex, "");
+            desc.geometry = compileStage("proxy.geom.glsl", gpu::ShaderStage::Geometry, view);
+        }
         desc.fragment = compileStage(lightView ? "vsm.frag.glsl" : "particle.frag.glsl", gpu::ShaderStage::Fragment,
                                      defines);
         desc.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
@@ -138,10 +146,29 @@ struct GpuRenderer::Impl {
 GpuRenderer::GpuRenderer() : impl_(std::make_unique<Impl>()) {}
 GpuRenderer::~GpuRenderer() = default;
 
-GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks& callbacks) {
+GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks& callbacks, Proxies proxies) {
     Impl& im = *impl_;
     gpu::Context& ctx = *im.context;
     GpuOutput out;
+    const bool mesh = proxies == Proxies::Mesh || (proxies == Proxies::Auto && ctx.device().meshShader);
+    if (mesh && !ctx.device().meshShader)
+        throw InputError(InputLocation{"", 0, 0, "proxies"},
+                         "the device '" + ctx.device().name +
+                             "' has no mesh shaders (VK_EXT_mesh_shader); set proxies to geometry or auto");
+    out.meshProxies = mesh;
+    // A draw of `count` particles from `first`: points for the vertex and geometry stages, or workgroups of the mesh
+    // shader.
+    auto drawProxies = [&](gpu::GraphicsPipeline& pipeline, VkCommandBuffer cmd,
+                           const std::vector<const gpu::Buffer*>& b, ProxyPush push, std::uint32_t count,
+                           std::uint32_t first) {
+        if (mesh) {
+            push.first = first;
+            push.count = count;
+            pipeline.drawMeshTasks(cmd, b, &push, (count + kMeshParticlesPerGroup - 1) / kMeshParticlesPerGroup);
+        } else {
+            pipeline.draw(cmd, b, &push, count, 1, first);
+        }
+    };
     const double compiledBefore = im.compileSeconds;
     const auto progress = [&](double f) {
         if (callbacks.progress) callbacks.progress(f);
@@ -215,7 +242,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
         gpu::RenderTarget target(ctx, std::uint32_t(vg.size), std::uint32_t(vg.size),
                                  chromatic ? VK_FORMAT_R32G32B32A32_SFLOAT : VK_FORMAT_R32_SFLOAT, slabs);
         gpu::GraphicsPipeline& pipeline = im.proxies(
-            true, chromatic, define("TY_ISV_FADING", f.fading) + define("TY_ISV_CHROMATIC", chromatic ? 1 : 0));
+            true, chromatic, mesh, define("TY_ISV_FADING", f.fading) + define("TY_ISV_CHROMATIC", chromatic ? 1 : 0));
         const std::vector<const gpu::Buffer*> b{particles.get(), &order, &frame, &view};
         sliced(
             std::uint64_t(slabs) * particleCount,
@@ -229,8 +256,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
                     pass.colour = {gpu::AttachmentRef{&target, slab}};
                     pass.load = first == 0 ? gpu::LoadOp::Clear : gpu::LoadOp::Load;
                     pipeline.beginPass(cmd, pass);
-                    const ProxyPush push{std::int32_t(slab), 0};
-                    pipeline.draw(cmd, b, &push, count, 1, first);
+                    drawProxies(pipeline, cmd, b, ProxyPush{std::int32_t(slab), 0, 0, 0}, count, first);
                     pipeline.endPass(cmd);
                     i += count;
                 }
@@ -309,7 +335,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
         bg.resetDescriptors();
     }
     if (particleCount > 0) {
-        gpu::GraphicsPipeline& pipeline = im.proxies(false, chromatic, shading);
+        gpu::GraphicsPipeline& pipeline = im.proxies(false, chromatic, mesh, shading);
         const std::vector<const gpu::Buffer*> b{particles.get(), &order, &frame, &view, &vsm, &shadow, &surfaces};
         sliced(
             particleCount,
@@ -319,8 +345,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
                 pass.colour = {gpu::AttachmentRef{&target, 0}};
                 pass.load = gpu::LoadOp::Load;
                 pipeline.beginPass(cmd, pass);
-                const ProxyPush push{-1, 1};
-                pipeline.draw(cmd, b, &push, std::uint32_t(n), 1, std::uint32_t(begin));
+                drawProxies(pipeline, cmd, b, ProxyPush{-1, 1, 0, 0}, std::uint32_t(n), std::uint32_t(begin));
                 pipeline.endPass(cmd);
             },
             16, out.timings.particlesMs);

@@ -29,6 +29,7 @@ struct GpuOutput {
     std::vector<glm::vec4> pixels;  // per pixel of the rendering resolution: (rgb, transmittance)
     std::string deviceName;
     GpuTimings timings;
+    bool meshProxies = false;  // the proxies came from the mesh shader
 };
 
 class GpuRenderer {
@@ -38,7 +39,8 @@ public:
     GpuRenderer(const GpuRenderer&) = delete;
     GpuRenderer& operator=(const GpuRenderer&) = delete;
 
-    GpuOutput render(const PreparedScene& scene, const RenderCallbacks& callbacks);
+    // Throws InputError (field `proxies`) when `proxies` asks for a mesh shader the device does not have.
+    GpuOutput render(const PreparedScene& scene, const RenderCallbacks& callbacks, Proxies proxies = Proxies::Auto);
 
 private:
     struct Impl;

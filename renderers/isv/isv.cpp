@@ -25,6 +25,16 @@ std::vector<ParamInfo> IsvTechnique::parameters() const {
                  0,
                  std::string("auto"),
                  {"auto", "gpu", "cpu"}});
+    p.push_back({"proxies",
+                 ParamType::Enum,
+                 "What builds the interval-shading proxies on the GPU (Sec. 2.3): mesh (a mesh shader, as Tricard and "
+                 "the thesis; needs VK_EXT_mesh_shader), geometry (a geometry shader, runs everywhere); auto: mesh "
+                 "where the device has it. Both draw the same triangles",
+                 "",
+                 0,
+                 0,
+                 std::string("auto"),
+                 {"auto", "geometry", "mesh"}});
     p.push_back({"integration",
                  ParamType::Enum,
                  "C_scat over a fragment's interval (thesis Sec. 3.7-3.11): analytic (constant extinction, closed "
@@ -134,13 +144,15 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
     }
     std::vector<glm::vec4> pixels;
     std::string deviceName = "cpu";
+    std::string proxies = "none (the CPU model intersects each pixel's ray with the tetrahedra)";
     isv::GpuTimings timings;
     if (onGpu) {
         if (!gpu_) gpu_ = std::make_unique<isv::GpuRenderer>();
-        isv::GpuOutput g = gpu_->render(scene, callbacks);
+        isv::GpuOutput g = gpu_->render(scene, callbacks, settings.proxies);
         pixels = std::move(g.pixels);
         deviceName = g.deviceName;
         timings = g.timings;
+        proxies = g.meshProxies ? "mesh" : "geometry";
     } else {
         const std::atomic<bool>* cancel = callbacks.cancel;
         std::vector<float> shadow, slabs, vsm;
@@ -182,6 +194,7 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
     meta["nonFiniteSamples"] = std::to_string(nonFinite);
     meta["isv:particles"] = std::to_string(scene.particles.size());
     if (!fallback.empty()) meta["isv:fallback"] = fallback;
+    meta["isv:proxies"] = proxies;
     if (onGpu) {
         meta["gpu:totalMs"] = formatDouble(timings.totalMs);
         meta["gpu:longestSliceMs"] = formatDouble(timings.longestSliceMs);

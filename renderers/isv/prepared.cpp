@@ -97,6 +97,8 @@ Settings settingsFrom(const ParamSet& params) {
     Settings s;
     const std::string& device = params.getEnum("device");
     s.device = device == "gpu" ? Device::Gpu : device == "cpu" ? Device::Cpu : Device::Auto;
+    const std::string& proxies = params.getEnum("proxies");
+    s.proxies = proxies == "mesh" ? Proxies::Mesh : proxies == "geometry" ? Proxies::Geometry : Proxies::Auto;
     s.integration = indexOf(integrationNames(), params.getEnum("integration"));
     s.steps = int(params.getInt("steps"));
     s.fading = params.getBool("fading");

@@ -19,9 +19,13 @@
 namespace tyndall::isv {
 
 enum class Device { Auto, Gpu, Cpu };
+// The producer of the proxies on the GPU (Sec. 2.3): a mesh shader (VK_EXT_mesh_shader), or the geometry stage, which
+// runs everywhere; auto takes the mesh shader where the device has one.
+enum class Proxies { Auto, Geometry, Mesh };
 
 struct Settings {
     Device device = Device::Auto;
+    Proxies proxies = Proxies::Auto;
     int integration = shader::kIsvSimpson;
     int steps = 1;                 // Simpson steps
     bool fading = true;            // Gaussian extinction (Eq. 9)

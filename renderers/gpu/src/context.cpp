@@ -118,11 +118,18 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
         if (families[best].timestampValidBits > 0) info.timestampPeriod = props.limits.timestampPeriod;
     }
 
+    std::vector<VkExtensionProperties> extensions = deviceExtensions(device);
     VkPhysicalDeviceVulkan12Features v12{};
     v12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+    VkPhysicalDeviceMeshShaderFeaturesEXT mesh{};
+    mesh.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT;
     VkPhysicalDeviceFeatures2 features{};
     features.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
-    if (props.apiVersion >= VK_API_VERSION_1_2) features.pNext = &v12;
+    const bool meshExtension = hasExtension(extensions, VK_EXT_MESH_SHADER_EXTENSION_NAME);
+    if (props.apiVersion >= VK_API_VERSION_1_2) {
+        features.pNext = &v12;
+        if (meshExtension) v12.pNext = &mesh;
+    }
     vkGetPhysicalDeviceFeatures2(device, &features);
     info.shaderFloat64 = features.features.shaderFloat64 == VK_TRUE;
     info.geometryShader = features.features.geometryShader == VK_TRUE;
@@ -131,10 +138,9 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
     info.dualSrcBlend = features.features.dualSrcBlend == VK_TRUE;
     info.timelineSemaphores = v12.timelineSemaphore == VK_TRUE;
     info.descriptorIndexing = v12.runtimeDescriptorArray == VK_TRUE && v12.descriptorBindingPartiallyBound == VK_TRUE;
-    std::vector<VkExtensionProperties> extensions = deviceExtensions(device);
     info.rayQuery = hasExtension(extensions, VK_KHR_RAY_QUERY_EXTENSION_NAME) &&
                     hasExtension(extensions, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
-    info.meshShader = hasExtension(extensions, VK_EXT_MESH_SHADER_EXTENSION_NAME);
+    info.meshShader = meshExtension && mesh.meshShader == VK_TRUE;
     return info;
 }
 
@@ -328,6 +334,16 @@ void Context::createDevice(bool rayQuery) {
         rayQueryEnabled_ = true;
     }
 
+    // Mesh shaders (ISV's proxies where the device has them); SPIR-V 1.4, which the extension needs, is core in 1.2.
+    VkPhysicalDeviceMeshShaderFeaturesEXT meshFeatures{};
+    meshFeatures.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT;
+    if (info_.meshShader) {
+        extensions.push_back(VK_EXT_MESH_SHADER_EXTENSION_NAME);
+        meshFeatures.meshShader = VK_TRUE;
+        meshFeatures.pNext = v12.pNext;
+        v12.pNext = &meshFeatures;
+    }
+
     VkDeviceCreateInfo ci{};
     ci.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
     ci.pNext = &features;
@@ -337,6 +353,11 @@ void Context::createDevice(bool rayQuery) {
     ci.ppEnabledExtensionNames = extensions.data();
     check(vkCreateDevice(physical_, &ci, nullptr, &device_), "creating the Vulkan device");
     vkGetDeviceQueue(device_, info_.queueFamily, 0, &queue_);
+    if (info_.meshShader) {
+        cmdDrawMeshTasks_ =
+            reinterpret_cast<PFN_vkCmdDrawMeshTasksEXT>(vkGetDeviceProcAddr(device_, "vkCmdDrawMeshTasksEXT"));
+        if (!cmdDrawMeshTasks_) info_.meshShader = false;
+    }
 
     VkCommandPoolCreateInfo poolInfo{};
     poolInfo.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;

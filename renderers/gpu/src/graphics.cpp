@@ -201,6 +201,7 @@ std::vector<float> RenderTarget::readback(std::uint32_t layer) {
 namespace {
 
 VkShaderStageFlags stagesOf(const GraphicsPipelineDesc& desc) {
+    if (!desc.mesh.empty()) return VK_SHADER_STAGE_MESH_BIT_EXT | VK_SHADER_STAGE_FRAGMENT_BIT;
     return VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT |
            (desc.geometry.empty() ? 0 : VK_SHADER_STAGE_GEOMETRY_BIT);
 }
@@ -260,10 +261,16 @@ bool Blend::dualSource() const {
 GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsPipelineDesc& desc)
     : context_(context), name_(desc.name), colourCount_(std::uint32_t(desc.colour.size())),
       depthFormat_(desc.depth ? std::optional<VkFormat>(desc.depth->format) : std::nullopt),
-      pushBytes_(desc.pushConstantBytes), stages_(stagesOf(desc)), sets_(context, desc.bindingCount, stages_) {
+      pushBytes_(desc.pushConstantBytes), mesh_(!desc.mesh.empty()), stages_(stagesOf(desc)),
+      sets_(context, desc.bindingCount, stages_) {
     const DeviceInfo& device = context.device();
-    if (desc.vertex.empty() || desc.fragment.empty())
-        throw GpuError("graphics pipeline " + name_ + " needs a vertex and a fragment shader");
+    if (desc.fragment.empty() || desc.vertex.empty() == desc.mesh.empty() || (mesh_ && !desc.geometry.empty()))
+        throw GpuError("graphics pipeline " + name_ +
+                       " needs a fragment shader and either a vertex shader (with an optional geometry shader) or a "
+                       "mesh shader");
+    if (mesh_ && (!device.meshShader || !context.cmdDrawMeshTasks()))
+        throw GpuError("graphics pipeline " + name_ + " has a mesh shader; the device '" + device.name +
+                       "' has no VK_EXT_mesh_shader");
     if (!desc.geometry.empty() && !device.geometryShader)
         throw GpuError("graphics pipeline " + name_ + " has a geometry shader; the device '" + device.name +
                        "' has none");
@@ -308,6 +315,7 @@ GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsPipelineDesc&
             info.pName = "main";
             stages.push_back(info);
         };
+        addStage(desc.mesh, VK_SHADER_STAGE_MESH_BIT_EXT, "mesh");
         addStage(desc.vertex, VK_SHADER_STAGE_VERTEX_BIT, "vertex");
         addStage(desc.geometry, VK_SHADER_STAGE_GEOMETRY_BIT, "geometry");
         addStage(desc.fragment, VK_SHADER_STAGE_FRAGMENT_BIT, "fragment");
@@ -359,8 +367,8 @@ GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsPipelineDesc&
         info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
         info.stageCount = std::uint32_t(stages.size());
         info.pStages = stages.data();
-        info.pVertexInputState = &vertexInput;
-        info.pInputAssemblyState = &assembly;
+        info.pVertexInputState = mesh_ ? nullptr : &vertexInput;  // a mesh pipeline has neither
+        info.pInputAssemblyState = mesh_ ? nullptr : &assembly;
         info.pViewportState = &viewport;
         info.pRasterizationState = &raster;
         info.pMultisampleState = &multisample;
@@ -473,10 +481,21 @@ void GraphicsPipeline::draw(VkCommandBuffer cmd, const std::vector<const Buffer*
                             std::uint32_t vertexCount, std::uint32_t instanceCount, std::uint32_t firstVertex,
                             std::uint32_t firstInstance) {
     if (!inPass_) throw GpuError("graphics pipeline " + name_ + " draws outside a pass");
+    if (mesh_) throw GpuError("graphics pipeline " + name_ + " has a mesh shader: draw it with drawMeshTasks");
     VkDescriptorSet set = sets_.allocate(buffers, "graphics pipeline " + name_);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set, 0, nullptr);
     if (pushBytes_ > 0 && push) vkCmdPushConstants(cmd, layout_, stages_, 0, pushBytes_, push);
     vkCmdDraw(cmd, vertexCount, instanceCount, firstVertex, firstInstance);
+}
+
+void GraphicsPipeline::drawMeshTasks(VkCommandBuffer cmd, const std::vector<const Buffer*>& buffers, const void* push,
+                                     std::uint32_t groupCount) {
+    if (!inPass_) throw GpuError("graphics pipeline " + name_ + " draws outside a pass");
+    if (!mesh_) throw GpuError("graphics pipeline " + name_ + " has no mesh shader: draw it with draw");
+    VkDescriptorSet set = sets_.allocate(buffers, "graphics pipeline " + name_);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set, 0, nullptr);
+    if (pushBytes_ > 0 && push) vkCmdPushConstants(cmd, layout_, stages_, 0, pushBytes_, push);
+    if (groupCount > 0) context_.cmdDrawMeshTasks()(cmd, groupCount, 1, 1);
 }
 
 void GraphicsPipeline::endPass(VkCommandBuffer cmd) {

@@ -121,6 +121,42 @@ TEST_F(GraphicsTest, DualSourceBlendingAttenuatesEachChannelByTheSecondOutput) {
     expectTexels(target.readback(), [](std::uint32_t, std::uint32_t) { return true; }, expected, expected);
 }
 
+// A mesh pipeline draws what the vertex pipeline draws where the device has VK_EXT_mesh_shader, and is refused with
+// that reason where it has not (lavapipe).
+TEST_F(GraphicsTest, MeshShaderPipelineDrawsOrIsRefusedWithTheReason) {
+    GraphicsPipelineDesc desc;
+    desc.name = "test triangle.mesh";
+    desc.mesh = loadSpirv("triangle.mesh");
+    desc.fragment = loadSpirv("flat_colour.frag");
+    desc.colour = {{VK_FORMAT_R32G32B32A32_SFLOAT}};
+    desc.bindingCount = 1;
+    if (!context().device().meshShader) {
+        try {
+            GraphicsPipeline pipeline(context(), desc);
+            ADD_FAILURE() << "a mesh pipeline needs mesh shaders";
+        } catch (const GpuError& e) {
+            EXPECT_NE(std::string(e.what()).find("VK_EXT_mesh_shader"), std::string::npos) << e.what();
+        }
+        return;
+    }
+    RenderTarget target(context(), kSize, kSize, VK_FORMAT_R32G32B32A32_SFLOAT);
+    GraphicsPipeline pipeline(context(), desc);
+    ASSERT_TRUE(pipeline.usesMeshShader());
+    const Rgba colour{0.25f, 2.0f, -3.0f, 1.0f}, clear{7.0f, 8.0f, 9.0f, 10.0f};
+    auto buffer = uploadBuffer(context(), std::vector<Triangle>{
+                                              {-1.0f, -1.0f, 1.0f, -1.0f, -1.0f, 0.0f, 0.5f, 0.0f, colour}});
+    context().submitAndWait([&](VkCommandBuffer cmd) {
+        PassDesc pass;
+        pass.colour = {{&target, 0}};
+        pass.clearColours = {clear};
+        pipeline.beginPass(cmd, pass);
+        pipeline.drawMeshTasks(cmd, {buffer.get()}, nullptr, 1);
+        pipeline.endPass(cmd);
+    });
+    expectTexels(target.readback(), [](std::uint32_t x, std::uint32_t y) { return ndc(y) < -1.0f + 0.5f * (1.0f - ndc(x)); },
+                 colour, clear);
+}
+
 TEST_F(GraphicsTest, AdditiveBlendingIntoASingleChannelTarget) {
     RenderTarget target(context(), kSize, kSize, VK_FORMAT_R32_SFLOAT);
     GraphicsPipeline pipeline(context(), trianglesDesc("flat_colour", {{VK_FORMAT_R32_SFLOAT, Blend::additive()}}));

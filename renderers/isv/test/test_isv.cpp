@@ -756,6 +756,51 @@ TEST_F(IsvGpu, CameraInsideTheCloudCullsTheSameParticles) {
     expectChordsMatch(scene, 0.05f, 3, 0.02);
 }
 
+// The proxies' producer is selectable: the mesh shader where the device has VK_EXT_mesh_shader, else a clear refusal
+// of `proxies = mesh`; auto takes what the device has and the image says which ran.
+TEST_F(IsvGpu, ProxiesProducerFollowsTheDevice) {
+    const bool hasMesh = gpu::sharedContext()->device().meshShader;
+    const Scene scene = cloudScene(20, false, 16, 12);
+    const RenderResult automatic = renderIsv(scene, {{"device", std::string("gpu")}});
+    EXPECT_EQ(automatic.image.metadata.at("isv:proxies"), hasMesh ? "mesh" : "geometry");
+    EXPECT_EQ(renderIsv(scene, {{"device", std::string("gpu")}, {"proxies", std::string("geometry")}})
+                  .image.metadata.at("isv:proxies"),
+              "geometry");
+    if (hasMesh) {
+        EXPECT_EQ(renderIsv(scene, {{"device", std::string("gpu")}, {"proxies", std::string("mesh")}})
+                      .image.metadata.at("isv:proxies"),
+                  "mesh");
+        return;
+    }
+    try {
+        renderIsv(scene, {{"device", std::string("gpu")}, {"proxies", std::string("mesh")}});
+        ADD_FAILURE() << "proxies = mesh must be refused on a device without mesh shaders";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.where().field, "proxies");
+        EXPECT_NE(std::string(e.what()).find("VK_EXT_mesh_shader"), std::string::npos) << e.what();
+    }
+}
+
+// Where both producers can run, they draw the same proxies: the same chords, and the same image in both passes (the
+// volumetric shadow map's slabs and the camera's sorted particles, whose order blending depends on).
+TEST_F(IsvGpu, MeshAndGeometryProducersAgree) {
+    if (!gpu::sharedContext()->device().meshShader) GTEST_SKIP() << "the device has no mesh shaders";
+    Settings settings;
+    settings.selfShadowing = false;
+    PreparedScene chords = prepareScene(cloudScene(300, false, 64, 48), settings, "");
+    chords.frame.integration = shader::kIsvChord;
+    GpuRenderer gpu;
+    const GpuOutput a = gpu.render(chords, {}, Proxies::Geometry), b = gpu.render(chords, {}, Proxies::Mesh);
+    ASSERT_TRUE(b.meshProxies);
+    for (std::size_t i = 0; i < a.pixels.size(); ++i)
+        ASSERT_NEAR(a.pixels[i].x, b.pixels[i].x, 1e-5f * std::max(1.0f, a.pixels[i].x)) << "pixel " << i;
+    const Scene scene = cloudScene(300, true, 64, 48);
+    const RenderResult geometry = renderIsv(scene, {{"device", std::string("gpu")}, {"proxies", std::string("geometry")}});
+    const RenderResult mesh = renderIsv(scene, {{"device", std::string("gpu")}, {"proxies", std::string("mesh")}});
+    const Metrics m = computeMetrics(mesh.image, geometry.image);
+    EXPECT_LT(m.relMSE, 1e-10);
+}
+
 TEST_F(IsvGpu, GpuMatchesTheCpuModel) {
     for (const char* integration : {"simpson", "analytic", "taylor", "two media", "spot light", "coloured"}) {
         Scene scene = cloudScene(60, true, 40, 30);

@@ -45,7 +45,7 @@ struct DeviceInfo {
     bool timelineSemaphores = false;
     bool shaderFloat64 = false;
     bool rayQuery = false;            // VK_KHR_ray_query + acceleration structures
-    bool meshShader = false;          // VK_EXT_mesh_shader
+    bool meshShader = false;          // VK_EXT_mesh_shader and its meshShader feature (Vulkan 1.2 devices); enabled
     bool descriptorIndexing = false;  // runtime descriptor arrays, partially bound
     // Graphics pipelines (gpu/graphics.h); each is enabled on the device when it has it.
     bool graphics = false;                  // the queue family also does graphics
@@ -82,6 +82,8 @@ public:
     bool validationEnabled() const { return validation_; }
     // True when the device was created with VK_KHR_ray_query, acceleration structures and buffer device addresses.
     bool rayQueryEnabled() const { return rayQueryEnabled_; }
+    // vkCmdDrawMeshTasksEXT when the device was created with mesh shaders (DeviceInfo::meshShader), else null.
+    PFN_vkCmdDrawMeshTasksEXT cmdDrawMeshTasks() const { return cmdDrawMeshTasks_; }
 
     // Messages of error severity from the validation layers since the context was created (tests fail on any).
     std::vector<std::string> validationErrors() const;
@@ -118,6 +120,7 @@ private:
     DeviceInfo info_;
     bool validation_ = false;
     bool rayQueryEnabled_ = false;
+    PFN_vkCmdDrawMeshTasksEXT cmdDrawMeshTasks_ = nullptr;
     std::mutex submitMutex_;
     mutable std::mutex messageMutex_;
     std::vector<std::string> validationErrors_;

@@ -121,6 +121,9 @@ struct DepthAttachment {
 struct GraphicsPipelineDesc {
     std::string name;                                       // for errors
     std::vector<std::uint32_t> vertex, geometry, fragment;  // SPIR-V; geometry empty for none
+    // SPIR-V of a mesh stage (VK_EXT_mesh_shader, DeviceInfo::meshShader) instead of the vertex and geometry stages:
+    // draw with drawMeshTasks. topology is then unused.
+    std::vector<std::uint32_t> mesh;
     VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     VkCullModeFlags cull = VK_CULL_MODE_NONE;
     std::vector<ColourAttachment> colour;  // location i = colour[i]
@@ -164,7 +167,11 @@ public:
     void draw(VkCommandBuffer cmd, const std::vector<const Buffer*>& buffers, const void* push,
               std::uint32_t vertexCount, std::uint32_t instanceCount = 1, std::uint32_t firstVertex = 0,
               std::uint32_t firstInstance = 0);
+    // Records groupCount mesh-shader workgroups (a mesh pipeline's draw); inside a pass, descriptors as draw().
+    void drawMeshTasks(VkCommandBuffer cmd, const std::vector<const Buffer*>& buffers, const void* push,
+                       std::uint32_t groupCount);
     void endPass(VkCommandBuffer cmd);
+    bool usesMeshShader() const { return mesh_; }
     // Also forgets the cached framebuffers when there are many (targets come and go), under the same condition.
     void resetDescriptors();
     const std::string& name() const { return name_; }
@@ -179,6 +186,7 @@ private:
     std::vector<VkFormat> colourFormats_;
     std::optional<VkFormat> depthFormat_;
     std::uint32_t pushBytes_;
+    bool mesh_;
     VkShaderStageFlags stages_;
     StorageDescriptorSets sets_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
