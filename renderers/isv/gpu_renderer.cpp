@@ -47,7 +47,7 @@ struct SortPush {
     std::uint32_t count, k, j;
 };
 struct SumPush {
-    std::uint32_t texels, slices;
+    std::uint32_t texels, slices, channels;
 };
 
 std::string shaderPath(const std::string& name) {
@@ -162,9 +162,16 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
                            const std::vector<const gpu::Buffer*>& b, ProxyPush push, std::uint32_t count,
                            std::uint32_t first) {
         if (mesh) {
-            push.first = first;
-            push.count = count;
-            pipeline.drawMeshTasks(cmd, b, &push, (count + kMeshParticlesPerGroup - 1) / kMeshParticlesPerGroup);
+            // In draws of at most the device's workgroups per draw, in order.
+            const std::uint32_t most = std::uint32_t(std::clamp<std::uint64_t>(
+                std::uint64_t(ctx.device().maxMeshWorkGroups) * kMeshParticlesPerGroup, kMeshParticlesPerGroup,
+                std::uint64_t(1) << 30));
+            for (std::uint32_t done = 0; done < count; done += most) {
+                push.first = first + done;
+                push.count = std::min(most, count - done);
+                pipeline.drawMeshTasks(cmd, b, &push,
+                                       (push.count + kMeshParticlesPerGroup - 1) / kMeshParticlesPerGroup);
+            }
         } else {
             pipeline.draw(cmd, b, &push, count, 1, first);
         }
@@ -204,6 +211,9 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
     auto surfaceTriangles = upload(scene.surfaces.triangles);
     auto materials = upload(scene.surfaces.materials);
     const std::uint32_t sortCount = std::max<std::uint32_t>(1u, std::bit_ceil(std::max(particleCount, 1u)));
+    // The sort's dispatch, in rows of at most 32768 groups (a dimension is guaranteed 65535); sort.comp.glsl flattens it.
+    const std::uint32_t sortGroupsTotal = groups(sortCount);
+    const glm::uvec2 sortGroups(std::min(sortGroupsTotal, 32768u), (sortGroupsTotal + 32767u) / 32768u);
     gpu::Buffer order(ctx, VkDeviceSize(sortCount) * sizeof(glm::uvec2));
 
     auto sliced = [&](std::uint64_t total, const gpu::SliceRecorder& record, std::uint64_t first, double& ms) {
@@ -267,9 +277,8 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
         gpu::ComputeKernel& sum = im.kernel("vsm_sum.comp.glsl", 2, sizeof(SumPush), false);
         out.timings.vsmMs += ctx.submitTimed([&](VkCommandBuffer cmd) {
             target.recordCopyAll(cmd, slabBuffer);
-            // Each channel sums on its own: the floats of a slab are the texels' channels, interleaved.
-            const SumPush push{std::uint32_t(vsmTexels * vsmChannels), std::uint32_t(vg.slices)};
-            sum.record(cmd, {&slabBuffer, &vsm}, &push, groups(vsmTexels * vsmChannels));
+            const SumPush push{std::uint32_t(vsmTexels), std::uint32_t(vg.slices), std::uint32_t(vsmChannels)};
+            sum.record(cmd, {&slabBuffer, &vsm}, &push, groups(vsmTexels));
             gpu::computeToGraphicsBarrier(cmd);
         });
         sum.resetDescriptors();
@@ -304,12 +313,12 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
         const std::vector<const gpu::Buffer*> b{particles.get(), &order, &view};
         out.timings.sortMs += ctx.submitTimed([&](VkCommandBuffer cmd) {
             SortPush push{sortCount, 0u, 0u};
-            k.record(cmd, b, &push, groups(sortCount));
+            k.record(cmd, b, &push, sortGroups.x, sortGroups.y);
             gpu::computeToComputeBarrier(cmd);
             for (std::uint32_t size = 2; size <= sortCount; size <<= 1)
                 for (std::uint32_t j = size >> 1; j > 0; j >>= 1) {
                     push = SortPush{sortCount, size, j};
-                    k.record(cmd, b, &push, groups(sortCount));
+                    k.record(cmd, b, &push, sortGroups.x, sortGroups.y);
                     gpu::computeToComputeBarrier(cmd);
                 }
             gpu::computeToGraphicsBarrier(cmd);

@@ -170,7 +170,8 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
         const Rgb& e = medium.extinction;
         const double largest = std::max({e.x, e.y, e.z});
         f.media[m].tint = largest > 0.0 ? glm::vec3(e / largest) : glm::vec3(1.0f);
-        if (f.media[m].tint != glm::vec3(1.0f)) p.chromatic = true;
+        // The RGB variant (and dual-source blending) only for a chromatic medium that has particles.
+        if (f.media[m].tint != glm::vec3(1.0f) && !medium.allParticles().empty()) p.chromatic = true;
         for (const Particle& particle : medium.allParticles()) {
             const std::array<Vec3, 4> v = tetrahedronVertices(particle);
             shader::IsvParticle q{};

@@ -19,7 +19,8 @@ layout(push_constant) uniform Push {
 bool before(uvec2 a, uvec2 b) { return a.x > b.x || (a.x == b.x && a.y < b.y); }
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    // Two-dimensional dispatches past the 65535 groups a dimension is guaranteed (more than 2^22 particles).
+    uint i = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x) + gl_GlobalInvocationID.x;
     if (i >= push.count) return;
     if (push.k == 0u) {
         if (i < uint(view.particleCount)) {

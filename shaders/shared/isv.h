@@ -139,7 +139,7 @@ float isvShadowTexel(int i);
 TY_FUNC float isvMaxChannel(float x) { return x; }
 TY_FUNC float isvMaxChannel(TY_IN(vec3) x) { return max(x.x, max(x.y, x.z)); }
 TY_FUNC float isvMeanChannel(float x) { return x; }
-TY_FUNC float isvMeanChannel(TY_IN(vec3) x) { return (x.x + x.y + x.z) / 3.0f; }
+TY_FUNC float isvMeanChannel(TY_IN(vec3) x) { return x.x == x.y && x.y == x.z ? x.x : (x.x + x.y + x.z) / 3.0f; }
 
 // A medium's extinction per channel relative to its particles' sigma (one in a grey build).
 TY_FUNC IsvRgb isvTint(TY_IN(IsvMedium) m) {

@@ -141,6 +141,15 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
     info.rayQuery = hasExtension(extensions, VK_KHR_RAY_QUERY_EXTENSION_NAME) &&
                     hasExtension(extensions, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME);
     info.meshShader = meshExtension && mesh.meshShader == VK_TRUE;
+    if (info.meshShader) {
+        VkPhysicalDeviceMeshShaderPropertiesEXT meshProps{};
+        meshProps.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_PROPERTIES_EXT;
+        VkPhysicalDeviceProperties2 props2{};
+        props2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+        props2.pNext = &meshProps;
+        vkGetPhysicalDeviceProperties2(device, &props2);
+        info.maxMeshWorkGroups = std::min(meshProps.maxMeshWorkGroupCount[0], meshProps.maxMeshWorkGroupTotalCount);
+    }
     return info;
 }
 

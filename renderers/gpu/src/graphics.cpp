@@ -200,7 +200,22 @@ std::vector<float> RenderTarget::readback(std::uint32_t layer) {
 
 namespace {
 
-VkShaderStageFlags stagesOf(const GraphicsPipelineDesc& desc) {
+// The pipeline's stages, after checking that the description is complete and that the device has them (before any
+// Vulkan object names a stage the device lacks).
+VkShaderStageFlags stagesOf(const Context& context, const GraphicsPipelineDesc& desc) {
+    const DeviceInfo& device = context.device();
+    const std::string& name = desc.name;
+    if (desc.fragment.empty() || desc.vertex.empty() == desc.mesh.empty() ||
+        (!desc.mesh.empty() && !desc.geometry.empty()))
+        throw GpuError("graphics pipeline " + name +
+                       " needs a fragment shader and either a vertex shader (with an optional geometry shader) or a "
+                       "mesh shader");
+    if (!desc.geometry.empty() && !device.geometryShader)
+        throw GpuError("graphics pipeline " + name + " has a geometry shader; the device '" + device.name +
+                       "' has none");
+    if (!desc.mesh.empty() && (!device.meshShader || !context.cmdDrawMeshTasks()))
+        throw GpuError("graphics pipeline " + name + " has a mesh shader; the device '" + device.name +
+                       "' has no VK_EXT_mesh_shader");
     if (!desc.mesh.empty()) return VK_SHADER_STAGE_MESH_BIT_EXT | VK_SHADER_STAGE_FRAGMENT_BIT;
     return VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT |
            (desc.geometry.empty() ? 0 : VK_SHADER_STAGE_GEOMETRY_BIT);
@@ -261,19 +276,9 @@ bool Blend::dualSource() const {
 GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsPipelineDesc& desc)
     : context_(context), name_(desc.name), colourCount_(std::uint32_t(desc.colour.size())),
       depthFormat_(desc.depth ? std::optional<VkFormat>(desc.depth->format) : std::nullopt),
-      pushBytes_(desc.pushConstantBytes), mesh_(!desc.mesh.empty()), stages_(stagesOf(desc)),
+      pushBytes_(desc.pushConstantBytes), mesh_(!desc.mesh.empty()), stages_(stagesOf(context, desc)),
       sets_(context, desc.bindingCount, stages_) {
     const DeviceInfo& device = context.device();
-    if (desc.fragment.empty() || desc.vertex.empty() == desc.mesh.empty() || (mesh_ && !desc.geometry.empty()))
-        throw GpuError("graphics pipeline " + name_ +
-                       " needs a fragment shader and either a vertex shader (with an optional geometry shader) or a "
-                       "mesh shader");
-    if (mesh_ && (!device.meshShader || !context.cmdDrawMeshTasks()))
-        throw GpuError("graphics pipeline " + name_ + " has a mesh shader; the device '" + device.name +
-                       "' has no VK_EXT_mesh_shader");
-    if (!desc.geometry.empty() && !device.geometryShader)
-        throw GpuError("graphics pipeline " + name_ + " has a geometry shader; the device '" + device.name +
-                       "' has none");
     for (const ColourAttachment& colour : desc.colour) {
         colourFormats_.push_back(colour.format);
         if (colour.blend.enable && colour.blend.dualSource() && !device.dualSrcBlend)
@@ -492,6 +497,10 @@ void GraphicsPipeline::drawMeshTasks(VkCommandBuffer cmd, const std::vector<cons
                                      std::uint32_t groupCount) {
     if (!inPass_) throw GpuError("graphics pipeline " + name_ + " draws outside a pass");
     if (!mesh_) throw GpuError("graphics pipeline " + name_ + " has no mesh shader: draw it with draw");
+    if (groupCount > context_.device().maxMeshWorkGroups)
+        throw GpuError("graphics pipeline " + name_ + " draws " + std::to_string(groupCount) +
+                       " mesh workgroups; the device takes " + std::to_string(context_.device().maxMeshWorkGroups) +
+                       " per draw");
     VkDescriptorSet set = sets_.allocate(buffers, "graphics pipeline " + name_);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set, 0, nullptr);
     if (pushBytes_ > 0 && push) vkCmdPushConstants(cmd, layout_, stages_, 0, pushBytes_, push);

@@ -46,6 +46,7 @@ struct DeviceInfo {
     bool shaderFloat64 = false;
     bool rayQuery = false;            // VK_KHR_ray_query + acceleration structures
     bool meshShader = false;          // VK_EXT_mesh_shader and its meshShader feature (Vulkan 1.2 devices); enabled
+    std::uint32_t maxMeshWorkGroups = 0;  // the most workgroups of one vkCmdDrawMeshTasksEXT(x, 1, 1)
     bool descriptorIndexing = false;  // runtime descriptor arrays, partially bound
     // Graphics pipelines (gpu/graphics.h); each is enabled on the device when it has it.
     bool graphics = false;                  // the queue family also does graphics

@@ -167,7 +167,8 @@ public:
     void draw(VkCommandBuffer cmd, const std::vector<const Buffer*>& buffers, const void* push,
               std::uint32_t vertexCount, std::uint32_t instanceCount = 1, std::uint32_t firstVertex = 0,
               std::uint32_t firstInstance = 0);
-    // Records groupCount mesh-shader workgroups (a mesh pipeline's draw); inside a pass, descriptors as draw().
+    // Records groupCount mesh-shader workgroups (a mesh pipeline's draw), at most DeviceInfo::maxMeshWorkGroups; inside
+    // a pass, descriptors as draw().
     void drawMeshTasks(VkCommandBuffer cmd, const std::vector<const Buffer*>& buffers, const void* push,
                        std::uint32_t groupCount);
     void endPass(VkCommandBuffer cmd);
