@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -72,7 +73,70 @@ std::uint32_t groups(std::uint64_t n) {
     return std::uint32_t((n + kGroupSize - 1) / kGroupSize);
 }
 
+std::string megabytes(std::uint64_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.1f MB", double(bytes) / 1048576.0);
+    return text;
+}
+
 }  // namespace
+
+std::optional<InputError> deviceLimitProblem(const PreparedScene& scene, const gpu::DeviceInfo& device) {
+    auto problem = [&](const std::string& field, const std::string& what) {
+        return InputError(InputLocation{"", 0, 0, field},
+                          what + " on the device '" + device.name + "'; or render this view with device = cpu");
+    };
+    if (scene.chromatic && !device.dualSrcBlend)
+        return problem("device", "coloured shadows (a chromatic extinction) composite each channel by its own "
+                                 "transmittance, which needs dualSrcBlend, missing");
+    const std::uint64_t range = device.maxStorageBufferRange;
+    const std::uint64_t count = scene.particles.size();
+    const std::uint64_t sortCount = std::bit_ceil(std::max<std::uint64_t>(count, 1));
+    const std::uint64_t particleBytes = std::max(count * sizeof(shader::IsvParticle), sortCount * sizeof(glm::uvec2));
+    if (particleBytes > range)
+        return problem("particleMedia",
+                       "the view's " + std::to_string(count) + " particles need " + megabytes(particleBytes) +
+                           " in one storage buffer, more than the " + megabytes(range) + " allowed (about " +
+                           std::to_string(range / sizeof(shader::IsvParticle)) + " particles): use fewer particles");
+    const std::uint64_t channels = scene.chromatic ? 4 : 1;
+    if (scene.vsm) {
+        const shader::IsvLightSpace& g = scene.frame.vsm;
+        const std::uint64_t bytes = std::uint64_t(g.size) * g.size * channels * std::uint64_t(g.slices) * 4;
+        if (bytes > range)
+            return problem("vsmResolution",
+                           "the volumetric shadow map of " + std::to_string(g.size) + "^2 texels x " +
+                               std::to_string(g.slices) + " slices" + (scene.chromatic ? " x RGBA" : "") + " needs " +
+                               megabytes(bytes) + ", more than the " + megabytes(range) +
+                               " one storage buffer allows: lower vsmResolution or vsmSlices");
+        if (std::uint32_t(g.slices - 1) > device.maxImageArrayLayers)
+            return problem("vsmSlices", std::to_string(g.slices - 1) + " slabs exceed the " +
+                                            std::to_string(device.maxImageArrayLayers) + " layers of a render target");
+    }
+    if (scene.shadowMap) {
+        const std::uint64_t size = std::uint64_t(scene.frame.shadowMap.size);
+        if (size * size * 4 > range)
+            return problem("shadowMapResolution", "the opaque shadow map of " + std::to_string(size) + "^2 texels needs " +
+                                                      megabytes(size * size * 4) + ", more than the " +
+                                                      megabytes(range) + " one storage buffer allows");
+    }
+    const std::uint32_t side = std::min({device.maxImageDimension2D, device.maxFramebufferWidth,
+                                         device.maxFramebufferHeight});
+    const std::uint64_t pixelBytes = std::uint64_t(scene.width) * std::uint64_t(scene.height) * 16;
+    if (std::uint32_t(scene.width) > side || std::uint32_t(scene.height) > side || pixelBytes > range)
+        return problem("supersampling",
+                       "the rendering resolution " + std::to_string(scene.width) + " x " +
+                           std::to_string(scene.height) + " (the image's times supersampling) exceeds the device's " +
+                           std::to_string(side) + " texels per side or " + megabytes(range) +
+                           " per storage buffer: lower supersampling or the image size");
+    const std::uint64_t bvhBytes = std::max({scene.surfaces.bvh.nodes.size() * sizeof(scene.surfaces.bvh.nodes[0]),
+                                             scene.surfaces.bvh.triangles.size() *
+                                                 sizeof(scene.surfaces.bvh.triangles[0]),
+                                             scene.surfaces.triangles.size() * sizeof(shader::SurfaceTriangle)});
+    if (bvhBytes > range)
+        return problem("meshes", "the surfaces' triangles need " + megabytes(bvhBytes) + " in one storage buffer, " +
+                                     "more than the " + megabytes(range) + " allowed: use fewer triangles");
+    return std::nullopt;
+}
 
 struct GpuRenderer::Impl {
     std::shared_ptr<gpu::Context> context = gpu::sharedContext();
@@ -156,6 +220,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
                          "the device '" + ctx.device().name +
                              "' has no mesh shaders (VK_EXT_mesh_shader); set proxies to geometry or auto");
     out.meshProxies = mesh;
+    if (const std::optional<InputError> problem = deviceLimitProblem(scene, ctx.device())) throw *problem;
     // A draw of `count` particles from `first`: points for the vertex and geometry stages, or workgroups of the mesh
     // shader.
     auto drawProxies = [&](gpu::GraphicsPipeline& pipeline, VkCommandBuffer cmd,

@@ -6,9 +6,12 @@
 
 #include "isv/prepared.h"
 
+#include "tyndall/error.h"
+#include "tyndall/gpu/context.h"
 #include "tyndall/technique.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +34,11 @@ struct GpuOutput {
     GpuTimings timings;
     bool meshProxies = false;  // the proxies came from the mesh shader
 };
+
+// What keeps the scene from rendering on `device` as configured, as an InputError naming the field to change (the
+// particle count, a map's resolution, the supersampling) and what the device allows; nullopt when it fits. The
+// storage buffers and render targets the GPU passes would allocate are checked against the device's limits.
+std::optional<InputError> deviceLimitProblem(const PreparedScene& scene, const gpu::DeviceInfo& device);
 
 class GpuRenderer {
 public:

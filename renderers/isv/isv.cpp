@@ -133,14 +133,14 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
 
     bool onGpu = settings.device != isv::Device::Cpu;
     std::string fallback;
-    if (onGpu && scene.chromatic && !gpu::sharedContext()->device().dualSrcBlend) {
-        // Coloured shadows composite each channel by its own transmittance, which needs dual-source blending.
-        const std::string why = "the device '" + gpu::sharedContext()->device().name +
-                                "' has no dualSrcBlend, which ISV needs for a chromatic extinction (coloured shadows)";
-        if (settings.device == isv::Device::Gpu)
-            throw InputError(InputLocation{"", 0, 0, "device"}, why + "; set device to cpu or auto");
-        onGpu = false;
-        fallback = why + ": rendered on the CPU";
+    if (onGpu) {
+        // What the device cannot hold or do (its buffer and image limits, dual-source blending for coloured shadows):
+        // an error under device = gpu, the CPU model under auto.
+        if (const std::optional<InputError> problem = isv::deviceLimitProblem(scene, gpu::sharedContext()->device())) {
+            if (settings.device == isv::Device::Gpu) throw *problem;
+            onGpu = false;
+            fallback = problem->where().field + ": " + problem->message() + " (rendered on the CPU)";
+        }
     }
     std::vector<glm::vec4> pixels;
     std::string deviceName = "cpu";

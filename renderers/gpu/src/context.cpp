@@ -98,6 +98,11 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
     info.name = props.deviceName;
     info.type = props.deviceType;
     info.apiVersion = props.apiVersion;
+    info.maxStorageBufferRange = props.limits.maxStorageBufferRange;
+    info.maxImageDimension2D = props.limits.maxImageDimension2D;
+    info.maxFramebufferWidth = props.limits.maxFramebufferWidth;
+    info.maxFramebufferHeight = props.limits.maxFramebufferHeight;
+    info.maxImageArrayLayers = props.limits.maxImageArrayLayers;
 
     uint32_t familyCount = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(device, &familyCount, nullptr);

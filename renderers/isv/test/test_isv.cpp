@@ -781,6 +781,53 @@ TEST_F(IsvGpu, ProxiesProducerFollowsTheDevice) {
     }
 }
 
+// A scene beyond the device's limits is refused before anything is allocated, naming the field to change: the
+// particles, the maps, the rendering resolution, coloured shadows without dual-source blending. Checked against
+// shrunken limits (the real device takes the test scene).
+TEST(IsvLimits, WhatTheDeviceCannotHoldIsRefusedNamingTheField) {
+    Scene scene = cloudScene(40, true, 48, 36);
+    Settings settings;
+    settings.vsmResolution = 64;
+    settings.vsmSlices = 16;
+    settings.shadowMapResolution = 256;
+    const PreparedScene p = prepareScene(scene, settings, "");
+    gpu::DeviceInfo device;
+    device.name = "small";
+    device.dualSrcBlend = true;
+    device.maxStorageBufferRange = 1u << 30;
+    device.maxImageDimension2D = device.maxFramebufferWidth = device.maxFramebufferHeight = 4096;
+    device.maxImageArrayLayers = 256;
+    EXPECT_FALSE(deviceLimitProblem(p, device).has_value());
+    auto fieldOf = [&](const gpu::DeviceInfo& d, const PreparedScene& q) {
+        const std::optional<InputError> e = deviceLimitProblem(q, d);
+        if (!e) return std::string("none");
+        EXPECT_NE(e->message().find("'small'"), std::string::npos) << e->message();
+        return e->where().field;
+    };
+    gpu::DeviceInfo small = device;
+    small.maxStorageBufferRange = 40 * sizeof(shader::IsvParticle) - 1;
+    EXPECT_EQ(fieldOf(small, p), "particleMedia");
+    small.maxStorageBufferRange = 64 * 64 * 16 * 4 - 1;  // the particles fit, the shadow map's slices do not
+    EXPECT_EQ(fieldOf(small, p), "vsmResolution");
+    small = device;
+    small.maxImageArrayLayers = 8;
+    EXPECT_EQ(fieldOf(small, p), "vsmSlices");
+    small = device;
+    small.maxImageDimension2D = 40;
+    EXPECT_EQ(fieldOf(small, p), "supersampling");
+    Scene coloured = scene;
+    coloured.particleMedia[0].extinction = Rgb(0.5, 1.0, 2.0);
+    const PreparedScene c = prepareScene(coloured, settings, "");
+    small = device;
+    small.dualSrcBlend = false;
+    EXPECT_EQ(fieldOf(small, c), "device");
+    EXPECT_EQ(fieldOf(small, p), "none") << "grey particles need no dual-source blending";
+    small.maxStorageBufferRange = 64 * 64 * 16 * 4;  // the grey map fits; the RGBA one would not
+    small.dualSrcBlend = true;
+    EXPECT_EQ(fieldOf(small, p), "none");
+    EXPECT_EQ(fieldOf(small, c), "vsmResolution");
+}
+
 // Where both producers can run, they draw the same proxies: the same chords, and the same image in both passes (the
 // volumetric shadow map's slabs and the camera's sorted particles, whose order blending depends on).
 TEST_F(IsvGpu, MeshAndGeometryProducersAgree) {

@@ -47,6 +47,11 @@ struct DeviceInfo {
     bool rayQuery = false;            // VK_KHR_ray_query + acceleration structures
     bool meshShader = false;          // VK_EXT_mesh_shader and its meshShader feature (Vulkan 1.2 devices); enabled
     std::uint32_t maxMeshWorkGroups = 0;  // the most workgroups of one vkCmdDrawMeshTasksEXT(x, 1, 1)
+    // Limits a technique checks before it allocates (VkPhysicalDeviceLimits).
+    std::uint64_t maxStorageBufferRange = 0;  // bytes of one storage-buffer binding
+    std::uint32_t maxImageDimension2D = 0;    // texels per side of a render target
+    std::uint32_t maxFramebufferWidth = 0, maxFramebufferHeight = 0;
+    std::uint32_t maxImageArrayLayers = 0;
     bool descriptorIndexing = false;  // runtime descriptor arrays, partially bound
     // Graphics pipelines (gpu/graphics.h); each is enabled on the device when it has it.
     bool graphics = false;                  // the queue family also does graphics
