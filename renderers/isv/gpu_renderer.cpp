@@ -220,6 +220,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, const RenderCallbacks&
                          "the device '" + ctx.device().name +
                              "' has no mesh shaders (VK_EXT_mesh_shader); set proxies to geometry or auto");
     out.meshProxies = mesh;
+    // The technique checks this first to fall back to the CPU under device = auto; here it guards direct callers.
     if (const std::optional<InputError> problem = deviceLimitProblem(scene, ctx.device())) throw *problem;
     // A draw of `count` particles from `first`: points for the vertex and geometry stages, or workgroups of the mesh
     // shader.

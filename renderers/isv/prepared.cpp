@@ -170,9 +170,11 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
         const Rgb& e = medium.extinction;
         const double largest = std::max({e.x, e.y, e.z});
         f.media[m].tint = largest > 0.0 ? glm::vec3(e / largest) : glm::vec3(1.0f);
+        // Generated (and simulated) once: allParticles() does the work on every call.
+        const std::vector<Particle> particles = medium.allParticles();
         // The RGB variant (and dual-source blending) only for a chromatic medium that has particles.
-        if (f.media[m].tint != glm::vec3(1.0f) && !medium.allParticles().empty()) p.chromatic = true;
-        for (const Particle& particle : medium.allParticles()) {
+        if (f.media[m].tint != glm::vec3(1.0f) && !particles.empty()) p.chromatic = true;
+        for (const Particle& particle : particles) {
             const std::array<Vec3, 4> v = tetrahedronVertices(particle);
             shader::IsvParticle q{};
             q.v0 = glm::vec3(v[0]);

@@ -482,14 +482,19 @@ void GraphicsPipeline::beginPass(VkCommandBuffer cmd, const PassDesc& pass) {
     vkCmdSetScissor(cmd, 0, 1, &scissor);
 }
 
+void GraphicsPipeline::bindResources(VkCommandBuffer cmd, const std::vector<const Buffer*>& buffers,
+                                     const void* push) {
+    VkDescriptorSet set = sets_.allocate(buffers, "graphics pipeline " + name_);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set, 0, nullptr);
+    if (pushBytes_ > 0 && push) vkCmdPushConstants(cmd, layout_, stages_, 0, pushBytes_, push);
+}
+
 void GraphicsPipeline::draw(VkCommandBuffer cmd, const std::vector<const Buffer*>& buffers, const void* push,
                             std::uint32_t vertexCount, std::uint32_t instanceCount, std::uint32_t firstVertex,
                             std::uint32_t firstInstance) {
     if (!inPass_) throw GpuError("graphics pipeline " + name_ + " draws outside a pass");
     if (mesh_) throw GpuError("graphics pipeline " + name_ + " has a mesh shader: draw it with drawMeshTasks");
-    VkDescriptorSet set = sets_.allocate(buffers, "graphics pipeline " + name_);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set, 0, nullptr);
-    if (pushBytes_ > 0 && push) vkCmdPushConstants(cmd, layout_, stages_, 0, pushBytes_, push);
+    bindResources(cmd, buffers, push);
     vkCmdDraw(cmd, vertexCount, instanceCount, firstVertex, firstInstance);
 }
 
@@ -501,9 +506,7 @@ void GraphicsPipeline::drawMeshTasks(VkCommandBuffer cmd, const std::vector<cons
         throw GpuError("graphics pipeline " + name_ + " draws " + std::to_string(groupCount) +
                        " mesh workgroups; the device takes " + std::to_string(context_.device().maxMeshWorkGroups) +
                        " per draw");
-    VkDescriptorSet set = sets_.allocate(buffers, "graphics pipeline " + name_);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set, 0, nullptr);
-    if (pushBytes_ > 0 && push) vkCmdPushConstants(cmd, layout_, stages_, 0, pushBytes_, push);
+    bindResources(cmd, buffers, push);
     if (groupCount > 0) context_.cmdDrawMeshTasks()(cmd, groupCount, 1, 1);
 }
 

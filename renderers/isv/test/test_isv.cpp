@@ -195,6 +195,24 @@ double quadratureEq7(const IsvParticle& p, const glm::dvec3& o, const glm::dvec3
     return sum;
 }
 
+// Of `count` rays from o towards points about p's centre, those that cross p over more than 5 cm: the ray's index, its
+// direction and its interval through p.
+struct CrossingRay {
+    int k;
+    glm::vec3 d;
+    glm::vec2 t;
+};
+std::vector<CrossingRay> raysThrough(const IsvParticle& p, const glm::vec3& o, int count) {
+    std::vector<CrossingRay> rays;
+    for (int k = 0; k < count; ++k) {
+        const glm::vec3 target = p.centre + 0.25f * glm::vec3(std::sin(k * 1.3f), std::cos(k * 0.7f), std::sin(k * 2.1f));
+        const glm::vec3 d = glm::normalize(target - o);
+        const glm::vec2 t = shader::isvRayTetrahedron(p, o, d);
+        if (t.y - t.x > 0.05f) rays.push_back({k, d, t});
+    }
+    return rays;
+}
+
 TEST(IsvShade, IntegrationModesAgainstQuadratureOfEq7) {
     std::mt19937 rng(5);
     Particle particle = particleAt(Vec3(0.1, 1.0, -0.2), 0.6, rng, 6.0);
@@ -212,11 +230,7 @@ TEST(IsvShade, IntegrationModesAgainstQuadratureOfEq7) {
                         {"simpson 10", shader::kIsvSimpson, 10, 3e-5}, {"taylor", shader::kIsvTaylor, 1, 2.6}};
     for (const Row& row : rows) {
         double worst = 0.0;
-        for (int k = 0; k < 40; ++k) {
-            const glm::vec3 target = p.centre + 0.25f * glm::vec3(std::sin(k * 1.3f), std::cos(k * 0.7f), std::sin(k * 2.1f));
-            const glm::vec3 d = glm::normalize(target - o);
-            const glm::vec2 t = shader::isvRayTetrahedron(p, o, d);
-            if (!(t.y - t.x > 0.05f)) continue;
+        for (const auto& [k, d, t] : raysThrough(p, o, 40)) {
             for (float c : {0.0f, 1.5f}) {
                 const IsvFrame f = frameWithGradient(c, row.integration, row.steps);
                 glm::vec3 a;
@@ -242,13 +256,8 @@ TEST(IsvShade, ChromaticExtinctionIntegratesEachChannelOnItsOwn) {
     MapScope maps(&gradientVsm, &noShadow);
     const glm::vec3 o(-2.0f, 1.3f, 2.5f), tint(0.25f, 1.0f, 0.6f), channel(2.0f, 0.5f, 1.0f);
     const float c = 1.5f;
-    int rays = 0;
-    for (int k = 0; k < 20; ++k) {
-        const glm::vec3 target = p.centre + 0.25f * glm::vec3(std::sin(k * 1.3f), std::cos(k * 0.7f), std::sin(k * 2.1f));
-        const glm::vec3 d = glm::normalize(target - o);
-        const glm::vec2 t = shader::isvRayTetrahedron(p, o, d);
-        if (!(t.y - t.x > 0.05f)) continue;
-        ++rays;
+    const std::vector<CrossingRay> rays = raysThrough(p, o, 20);
+    for (const auto& [k, d, t] : rays) {
         const IsvFrame f = frameWithGradient(c, shader::kIsvSimpson, 10, tint, channel);
         glm::vec3 a;
         const glm::vec3 s = shader::isvShade(f, p, o, d, t.x, t.y, a);
@@ -261,7 +270,7 @@ TEST(IsvShade, ChromaticExtinctionIntegratesEachChannelOnItsOwn) {
         }
         EXPECT_GT(a.x, a.y) << "the red channel is the least attenuated";
     }
-    EXPECT_GT(rays, 10);
+    EXPECT_GT(rays.size(), 10u);
 }
 
 TEST(IsvShade, AnalyticModeIsExactForConstantExtinction) {

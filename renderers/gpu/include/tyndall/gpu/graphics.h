@@ -179,6 +179,8 @@ public:
 
 private:
     VkFramebuffer framebuffer(const PassDesc& pass);
+    // A descriptor set of `buffers` and the push constants, for the next draw.
+    void bindResources(VkCommandBuffer cmd, const std::vector<const Buffer*>& buffers, const void* push);
     void release();
 
     Context& context_;
