@@ -151,7 +151,7 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
         LtsdTable table;
         if (!tableType.empty()) {
             p.tablePath = ltsdTablePath(tableType).string();
-            table = loadLtsdTable(p.tablePath);
+            table = loadLtsdTable(p.tablePath, tableType);
         }
         const LtsdPhaseTerms terms = ltsdPhaseTerms(phase, tableType.empty() ? nullptr : &table);
         f.upper = terms.upper;

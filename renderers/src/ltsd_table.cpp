@@ -1,5 +1,6 @@
 #include "tyndall/ltsd_table.h"
 
+#include "json_field.h"
 #include "table_file.h"
 
 #include "tyndall/error.h"
@@ -11,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <system_error>
 
 namespace tyndall {
@@ -73,6 +75,18 @@ double LtsdPhase::eval(double mu) const {
     if (type == "eddington") return (1.0 + b * mu) / (4.0 * kPi);
     if (type == "rayleigh" || isMie(type))
         return (1.0 - ltsdLobeWeight(type)) / (4.0 * kPi) + ltsdLobeWeight(type) * ltsdLobeEval(type, g, mu);
+    TY_CHECK(false, "LtsdPhase: unknown phase type " + type);
+    return 0.0;
+}
+
+double LtsdPhase::cdf(double mu) const {
+    const double isotropic = 0.5 * (1.0 + mu);
+    if (type == "hg") return ltsdLobeCdf("hg", g, mu);
+    if (type == "isotropic") return isotropic;
+    if (type == "mix") return (1.0 - a) * isotropic + a * ltsdLobeCdf("hg", g, mu);
+    if (type == "eddington") return isotropic + 0.25 * b * (mu * mu - 1.0);
+    if (type == "rayleigh" || isMie(type))
+        return (1.0 - ltsdLobeWeight(type)) * isotropic + ltsdLobeWeight(type) * ltsdLobeCdf(type, g, mu);
     TY_CHECK(false, "LtsdPhase: unknown phase type " + type);
     return 0.0;
 }
@@ -250,7 +264,7 @@ void saveLtsdTable(const LtsdTable& table, const std::filesystem::path& file) {
     writeAtomically(file.string() + ".json", text.data(), text.size());
 }
 
-LtsdTable loadLtsdTable(const std::filesystem::path& file) {
+LtsdTable loadLtsdTable(const std::filesystem::path& file, const std::string& expectedPhase) {
     const auto fail = [&](const std::string& field, const std::string& message) {
         return InputError(InputLocation{file.string(), 0, 0, field}, message);
     };
@@ -266,9 +280,14 @@ LtsdTable loadLtsdTable(const std::filesystem::path& file) {
     const auto payloadBytes = get<std::uint64_t>(bytes, 40);
     if (entryBytes != kEntryBytes) throw fail("header.entryBytes", "must be 48, got " + std::to_string(entryBytes));
     if (n < 1 || n > 65536) throw fail("header.entriesPerHalf", "must be in [1, 65536], got " + std::to_string(n));
-    if (payloadBytes != std::uint64_t(2) * n * kEntryBytes || bytes.size() != kHeaderBytes + payloadBytes)
-        throw fail("payload", "truncated or padded: " + std::to_string(bytes.size()) + " bytes, the header implies " +
-                                  std::to_string(kHeaderBytes + std::uint64_t(2) * n * kEntryBytes));
+    const std::uint64_t impliedPayload = std::uint64_t(2) * n * kEntryBytes;
+    if (payloadBytes != impliedPayload)
+        throw fail("header.payloadBytes", "says " + std::to_string(payloadBytes) + " bytes; 2 x " + std::to_string(n) +
+                                              " entries (header.entriesPerHalf) of 48 bytes are " +
+                                              std::to_string(impliedPayload));
+    if (bytes.size() != kHeaderBytes + payloadBytes)
+        throw fail("payload", "truncated or padded: the file has " + std::to_string(bytes.size()) +
+                                  " bytes, its header implies " + std::to_string(kHeaderBytes + payloadBytes));
     const auto stored = get<std::uint64_t>(bytes, kChecksumOffset);
     if (stored != ltsdTableChecksum(bytes))
         throw fail("header.checksum", "checksum mismatch: the file is corrupt (stored " + hex64(stored) +
@@ -278,9 +297,24 @@ LtsdTable loadLtsdTable(const std::filesystem::path& file) {
     table.path = file.string();
     table.entriesPerHalf = int(n);
     table.gMax = get<float>(bytes, 20);
-    char phase[17] = {};
-    std::memcpy(phase, bytes.data() + 24, 16);
-    table.phase = phase;
+    // The phase type: NUL-terminated text in bytes [24, 40), one of the types that have a table, and the one the
+    // caller asked for (hg.ltsd must hold the hg table: the run time interpolates it by g).
+    if (std::find(bytes.begin() + 24, bytes.begin() + 40, std::uint8_t(0)) == bytes.begin() + 40)
+        throw fail("header.phase", "is not NUL-terminated within its 16 bytes");
+    table.phase = reinterpret_cast<const char*>(bytes.data() + 24);
+    const std::string shownPhase = "'" + table.phase.substr(0, 15) + "'";
+    const bool knownPhase = table.phase == "hg" || table.phase == "rayleigh" || isMie(table.phase);
+    if (!knownPhase)
+        throw fail("header.phase",
+                   shownPhase + " is not a phase type with an LTSD table (hg, rayleigh, hazy-mie, murky-mie)");
+    if (!expectedPhase.empty() && table.phase != expectedPhase)
+        throw fail("header.phase",
+                   "the table fits " + shownPhase + ", but this file must hold the '" + expectedPhase + "' table");
+    if ((table.phase == "hg") != (n >= 2))
+        throw fail("header.entriesPerHalf",
+                   table.phase == "hg"
+                       ? "the hg table is parameterised by g: at least 2 entries per half, got 1"
+                       : "a " + shownPhase + " table has no parameter: 1 entry per half, got " + std::to_string(n));
     if (n >= 2 && !(table.gMax > 0.0f && table.gMax <= 1.0f))
         throw fail("header.gMax", "must be in (0, 1], got " + std::to_string(table.gMax));
     if (n == 1 && table.gMax != 0.0f)
@@ -304,6 +338,12 @@ LtsdTable loadLtsdTable(const std::filesystem::path& file) {
             throw fail(field + ".source", "must be 0 or 1, got " + std::to_string(e.source));
         if (n >= 2 && e.source != expectedSource)
             throw fail(field + ".source", "must be " + std::to_string(expectedSource) + " in this half of the table");
+        // Informative (the fetch computes the coordinate from the index), but a table whose entries say another g than
+        // their place is not what the fitter wrote: its entries are out of order or damaged.
+        const double g = n >= 2 ? table.entryG(int(i)) : 0.0;
+        if (!(std::abs(double(e.g) - g) <= 1e-6))
+            throw fail(field + ".g", "must be the entry's table coordinate " + formatNumber(g) +
+                                         " (evenly spaced over [-gMax, 0] and [0, gMax]), got " + formatNumber(e.g));
     }
 
     const std::filesystem::path sidecar = file.string() + ".json";
@@ -454,6 +494,49 @@ double kronrod(const F& f, double a, double b, double tolerance, double relative
 }
 
 }  // namespace
+
+// The boundary form (docs/tables.md, "The exact integral over a polygon"). In coordinates (phi, mu) about the z axis,
+// d omega = d mu d phi, so with C(mu) = cdf(mu) / (2 pi) the integral over a region between two curves in mu is an
+// integral of C along its boundary (Green's theorem): I = |oint C(mu) d phi| when the polygon holds no pole,
+// oint C d phi (traversed with phi increasing) when it holds mu = -1 (+z), and 1 - oint C d phi when it holds
+// mu = +1 (-z). Along an edge C(mu) d phi is integrated as c0 Delta phi + int (C(mu) - c0) phi'(t) dt, with c0 the
+// value at the pole nearer the edge, so that the integrand stays bounded where an edge passes near that pole (phi'
+// grows as 1 / r^2 there, C - c0 falls as r^2).
+double ltsdPhasePolygonIntegral(const LtsdPhase& phase, const std::vector<glm::dvec3>& vertices) {
+    TY_CHECK(vertices.size() >= 3, "a polygon has at least 3 vertices");
+    glm::dvec3 centre(0.0);
+    for (const glm::dvec3& v : vertices)
+        centre += glm::normalize(v);
+    centre = glm::normalize(centre);
+    // A vertex on the z axis has no phi: moved by 1e-9 rad towards the centre (an area change of order 1e-18 sr).
+    std::vector<glm::dvec3> polygon;
+    for (const glm::dvec3& v : vertices) {
+        glm::dvec3 w = glm::normalize(v);
+        if (w.x * w.x + w.y * w.y < 1e-24) w = glm::normalize(w + 1e-9 * (centre - w));
+        polygon.push_back(w);
+    }
+    const auto C = [&](double mu) { return phase.cdf(std::clamp(mu, -1.0, 1.0)) / (2.0 * kPi); };
+    double boundary = 0.0, winding = 0.0;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const glm::dvec3 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
+        const double deltaPhi = std::atan2(a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y);
+        winding += deltaPhi;
+        const double angle = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+        if (angle == 0.0) continue;
+        const glm::dvec3 u = glm::normalize(b - glm::dot(a, b) * a);  // a cos t + u sin t runs from a to b
+        const double c0 = (a.z + b.z) < 0.0 ? C(1.0) : C(-1.0);       // mu = -z: the pole the edge is nearer
+        const auto integrand = [&](double t) {
+            const glm::dvec3 w = a * std::cos(t) + u * std::sin(t), dw = -a * std::sin(t) + u * std::cos(t);
+            const double r2 = w.x * w.x + w.y * w.y;
+            if (r2 == 0.0) return 0.0;
+            return (C(-w.z) - c0) * (w.x * dw.y - w.y * dw.x) / r2;
+        };
+        boundary += c0 * deltaPhi + kronrod(integrand, 0.0, angle, 1e-14, 1e-13, 0);
+    }
+    if (std::abs(winding) < kPi) return std::abs(boundary);
+    const double increasing = winding > 0.0 ? boundary : -boundary;
+    return centre.z > 0.0 ? increasing : 1.0 - increasing;
+}
 
 double integrateOverSphericalPolygon(const std::vector<glm::dvec3>& vertices, const glm::dvec3& centre,
                                      const std::function<double(const glm::dvec3&)>& f, double tolerance,

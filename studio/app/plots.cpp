@@ -282,7 +282,8 @@ const LtsdTables::Entry& LtsdTables::get(const std::string& phaseType) {
     if (it != entries_.end()) return it->second;
     Entry entry;
     try {
-        auto table = std::make_shared<const LtsdTable>(loadLtsdTable(ltsdTablePath(phaseType, directory_.toStdString())));
+        auto table = std::make_shared<const LtsdTable>(
+            loadLtsdTable(ltsdTablePath(phaseType, directory_.toStdString()), phaseType));
         entry.errorCurve = std::make_shared<const std::vector<LtsdFitError>>(ltsdFitErrorCurve(*table, kErrorSamples));
         entry.table = std::move(table);
     } catch (const std::exception& e) {

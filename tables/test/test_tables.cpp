@@ -8,6 +8,7 @@
 #include "tyndall/ltsd_table.h"
 
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
 #include <cstdlib>
@@ -234,6 +235,101 @@ TEST(LtsdTableFile, BadFilesAreRefusedNamingTheFile) {
     t.entries[200].m[0] = 0.0f;
     saveLtsdTable(t, tmpFile("singular.ltsd"));
     expectRefused(tmpFile("singular.ltsd"), "singular");
+}
+
+// Issue 34: header and entry fields that were accepted, or reported with a misleading message.
+TEST(LtsdTableFile, HeaderAndEntryFieldsAreCheckedByName) {
+    const std::vector<char> good = readAll(TYNDALL_SHIPPED_TABLE);
+    const auto withChecksum = [](std::vector<char> bytes) {
+        const std::vector<std::uint8_t> u(bytes.begin(), bytes.end());
+        const std::uint64_t checksum = ltsdTableChecksum(u);
+        std::memcpy(bytes.data() + 48, &checksum, 8);
+        return bytes;
+    };
+    // A payload size of 2^64 - 1 was reported as "12352 bytes, the header implies 12352".
+    std::vector<char> payload = good;
+    std::memset(payload.data() + 40, 0xff, 8);
+    writeAll(tmpFile("payload.ltsd"), withChecksum(payload));
+    expectRefused(tmpFile("payload.ltsd"), "header.payloadBytes: says 18446744073709551615 bytes");
+
+    // The phase type: unknown, unterminated, or another table's.
+    std::vector<char> phase = good;
+    std::memcpy(phase.data() + 24, "hgx", 4);
+    writeAll(tmpFile("phase.ltsd"), withChecksum(phase));
+    expectRefused(tmpFile("phase.ltsd"), "header.phase: 'hgx' is not a phase type with an LTSD table");
+    std::memset(phase.data() + 24, 'h', 16);
+    writeAll(tmpFile("phase.ltsd"), withChecksum(phase));
+    expectRefused(tmpFile("phase.ltsd"), "header.phase: is not NUL-terminated");
+    EXPECT_NO_THROW(loadLtsdTable(TYNDALL_SHIPPED_TABLE, "hg"));
+    try {
+        loadLtsdTable(TYNDALL_SHIPPED_TABLE, "rayleigh");
+        ADD_FAILURE() << "the hg table was taken for rayleigh";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("header.phase: the table fits 'hg', but this file must hold the "
+                                             "'rayleigh' table"),
+                  std::string::npos)
+            << e.what();
+    }
+
+    // Each entry's g is its table coordinate.
+    LtsdTable t = shipped();
+    t.entries[7].g = 0.5f;
+    saveLtsdTable(t, tmpFile("g.ltsd"));
+    expectRefused(tmpFile("g.ltsd"), "entries[7].g: must be the entry's table coordinate");
+}
+
+// The boundary form of the exact integral (tables eval's "exact") against the 2-D quadrature, for every phase type
+// the tables serve and polygons of every kind (tiny, large, across the horizon, around either pole). Agreement to
+// 1e-9: the quadrature's own tolerance.
+TEST(PhasePolygonIntegral, MatchesQuadratureForEveryPhaseType) {
+    const std::vector<LtsdPhase> phases = {{"hg", -0.9},
+                                           {"hg", 0.0},
+                                           {"hg", 0.5},
+                                           {"hg", 0.95},
+                                           {"isotropic"},
+                                           {"mix", 0.7, 0.4},
+                                           {"eddington", 0, 1, 0.7},
+                                           {"rayleigh"},
+                                           {"hazy-mie"},
+                                           {"murky-mie"}};
+    for (const LtsdPhase& phase : phases) {
+        for (const test::TestPolygon& p : test::randomTestPolygons(17u, 2)) {
+            const double quadrature = test::integrateOverPolygon(
+                p.centre, p.vertices, [&](const dvec3& w) { return phase.eval(-w.z); }, 1e-12, 1e-10);
+            EXPECT_NEAR(ltsdPhasePolygonIntegral(phase, p.vertices), quadrature, 1e-9)
+                << phase.type << " g " << phase.g << ", " << p.kind;
+        }
+    }
+}
+
+// Issue 34: at g = 0.9999999 (valid) the 2-D quadrature behind `tables eval` ran for 118 s. The boundary form is
+// checked where no quadrature can be: the eight faces of an octahedron (rotated so that no vertex is on the z axis)
+// tile the sphere, so their integrals add to 1 for any g; and the face that holds the peak holds all but the share
+// of HG beyond its nearest edge.
+TEST(PhasePolygonIntegral, SpikesAddUpOverATilingOfTheSphere) {
+    const glm::dmat3 rotate = glm::dmat3(glm::rotate(glm::dmat4(1.0), 0.3, glm::normalize(dvec3(1.0, 2.0, 3.0))));
+    std::vector<std::vector<dvec3>> faces;
+    for (int i = 0; i < 8; ++i) {
+        const dvec3 x((i & 1) ? 1.0 : -1.0, 0.0, 0.0), y(0.0, (i & 2) ? 1.0 : -1.0, 0.0),
+            z(0.0, 0.0, (i & 4) ? 1.0 : -1.0);
+        faces.push_back({rotate * x, rotate * y, rotate * z});
+    }
+    for (double g : {-0.9999999, -0.99, 0.0, 0.5, 0.99, 0.9999999}) {
+        const LtsdPhase hg{"hg", g};
+        double sum = 0.0, largest = 0.0;
+        for (const auto& face : faces) {
+            const double value = ltsdPhasePolygonIntegral(hg, face);
+            EXPECT_GE(value, 0.0) << g;
+            sum += value;
+            largest = std::max(largest, value);
+        }
+        EXPECT_NEAR(sum, 1.0, 1e-9) << g;
+        // HG's share beyond an angle psi from its peak is about (1 - g) / psi for g near 1; every edge is > 0.3 rad
+        // away.
+        if (std::abs(g) > 0.999999) {
+            EXPECT_GT(largest, 1.0 - 1e-5) << g;
+        }
+    }
 }
 
 // g outside the table is clamped to +-gMax (documented), never extrapolated.

@@ -26,7 +26,16 @@ struct LtsdPhase {
 
     // p(mu) per sr, project convention (mu = 1: forward scattering).
     double eval(double mu) const;
+    // Its CDF in mu: 2 pi times the integral of p over [-1, mu], in closed form (cdf(1) = 1).
+    double cdf(double mu) const;
 };
+
+// The exact integral of the phase function over a spherical polygon in the LTSD frame (mu = -z): the boundary form of
+// docs/tables.md ("The exact integral over a polygon"), one smooth 1-D integral of the closed-form CDF per edge, plus
+// the pole's term when the polygon holds one. Its work is bounded for every g: where the phase function is a spike
+// (g = 0.9999999) that a 2-D quadrature chases for minutes, the CDF is a step the edge integrals resolve in a few
+// hundred evaluations. `vertices`: a convex polygon inside a hemisphere, any order.
+double ltsdPhasePolygonIntegral(const LtsdPhase& phase, const std::vector<glm::dvec3>& vertices);
 
 // Henyey-Greenstein's integral over the upper hemisphere of the LTSD frame (omega_o = +z, mu = -z), i.e. over
 // mu in [-1, 0]: a_u(g) = (1 - g) / (sqrt(1 + g^2) (1 + g + sqrt(1 + g^2))), exact and stable for every g in [-1, 1].
@@ -120,9 +129,11 @@ LtsdPhaseTerms ltsdPhaseTerms(const LtsdPhase& phase, const LtsdTable* table);
 // ltsdPhaseIntegral of shared/ltsd.h with these terms, in the frame omega_o = +z.
 double ltsdPhaseIntegral(const LtsdPhaseTerms& terms, const shader::SphericalPolygon& polygon);
 
-// Reads a table; every problem (missing, truncated, another version, bad checksum, non-finite or singular matrices,
-// amplitudes outside [0, 1]) is an InputError naming the file. The sidecar `<file>.json` holds the provenance.
-LtsdTable loadLtsdTable(const std::filesystem::path& file);
+// Reads a table; every problem (missing, truncated, another version, bad checksum, a header phase type without a
+// table or other than `expectedPhase` when that is given, non-finite or singular matrices, amplitudes outside [0, 1],
+// entries whose g is not their table coordinate) is an InputError naming the file and the field. The sidecar
+// `<file>.json` holds the provenance.
+LtsdTable loadLtsdTable(const std::filesystem::path& file, const std::string& expectedPhase = "");
 
 // Writes the table and its sidecar (provenance as given, plus the payload checksum), each atomically.
 void saveLtsdTable(const LtsdTable& table, const std::filesystem::path& file);
