@@ -350,16 +350,42 @@ Polygon capPolygon(const std::vector<Vec3>& points, const Vec3& normal) {
     return unique;
 }
 
-std::vector<Polygon> bigCubeFaces() {
+std::vector<Polygon> cubeFaces(const Vec3& middle, double halfWidth) {
     std::vector<Polygon> faces;
     for (int axis = 0; axis < 3; ++axis) {
         for (double sign : {1.0, -1.0}) {
-            Vec3 centre(0.0), u(0.0), v(0.0);
-            centre[axis] = sign * kBigCube;
-            u[(axis + 1) % 3] = kBigCube;
-            v[(axis + 2) % 3] = sign * kBigCube;  // u x v points outwards
+            Vec3 centre(middle), u(0.0), v(0.0);
+            centre[axis] += sign * halfWidth;
+            u[(axis + 1) % 3] = halfWidth;
+            v[(axis + 2) % 3] = sign * halfWidth;  // u x v points outwards
             faces.push_back({centre - u - v, centre + u - v, centre + u + v, centre - u + v});
         }
+    }
+    return faces;
+}
+
+// The faces of the intersection of the half-spaces with `faces` (a closed convex solid), by clipping with one
+// half-space after the other. Each plane that cuts the solid closes the cut with a cap polygon; a plane that only
+// touches it, or repeats a plane already used, adds no face. Empty when the intersection is (nearly) empty.
+std::vector<Polygon> clipSolid(std::vector<Polygon> faces, const std::vector<HalfSpace>& planes) {
+    for (const HalfSpace& plane : planes) {
+        std::vector<Vec3> onPlane;
+        std::vector<Polygon> clipped;
+        bool planeHasAFace = false;
+        for (const Polygon& face : faces) {
+            const bool inPlane =
+                std::all_of(face.begin(), face.end(), [&](const Vec3& p) { return side(p, plane) == 0; });
+            Polygon kept = clip(face, plane, onPlane);
+            if (kept.size() < 3) continue;
+            if (inPlane && glm::dot(newellVector(kept), plane.normal) > 0.0) planeHasAFace = true;
+            clipped.push_back(std::move(kept));
+        }
+        if (!planeHasAFace) {
+            Polygon cap = capPolygon(onPlane, plane.normal);
+            if (cap.size() >= 3) clipped.push_back(std::move(cap));
+        }
+        faces = std::move(clipped);
+        if (faces.empty()) break;
     }
     return faces;
 }
@@ -401,45 +427,68 @@ ConvexPolyhedron makeConvexPolyhedron(const std::vector<HalfSpace>& planes) {
         result.planes.push_back({plane.normal / length, plane.offset / length});
     }
 
-    // Clip the big cube by one half-space after the other. Each plane that cuts the solid closes the cut with a cap
-    // polygon; a plane that only touches it, or repeats a plane already used, adds no face.
-    std::vector<Polygon> faces = bigCubeFaces();
+    // The half-spaces are clipped out of a cube. It is placed at the planes' least-squares centre, the point nearest to
+    // all of them (a box's centre; near any solid whose planes all touch it), sized from the planes' distances to it,
+    // and grown until it holds the solid: so the clipping tolerances follow the solid's own size and place, and a box
+    // 1e6 m away or 2e-6 m wide is found as well as one at the origin. Where that finds nothing bounded (redundant
+    // planes far away can pull the centre off), the big cube around the origin decides, as it always did.
+    Vec3 cubeCentre(0.0);
+    double cubeHalfWidth = kBigCube;
+    std::vector<Polygon> faces;
+    const auto reachesCube = [&] {
+        for (const Polygon& face : faces)
+            for (const Vec3& p : face)
+                if (maxAbs(p - cubeCentre) >= cubeHalfWidth * (1.0 - 1e-9)) return true;
+        return false;
+    };
+    glm::dmat3 normalMatrix(0.0);
+    Vec3 rhs(0.0);
     for (const HalfSpace& plane : result.planes) {
-        std::vector<Vec3> onPlane;
-        std::vector<Polygon> clipped;
-        bool planeHasAFace = false;
-        for (const Polygon& face : faces) {
-            const bool inPlane =
-                std::all_of(face.begin(), face.end(), [&](const Vec3& p) { return side(p, plane) == 0; });
-            Polygon kept = clip(face, plane, onPlane);
-            if (kept.size() < 3) continue;
-            if (inPlane && glm::dot(newellVector(kept), plane.normal) > 0.0) planeHasAFace = true;
-            clipped.push_back(std::move(kept));
-        }
-        if (!planeHasAFace) {
-            Polygon cap = capPolygon(onPlane, plane.normal);
-            if (cap.size() >= 3) clipped.push_back(std::move(cap));
-        }
-        faces = std::move(clipped);
-        if (faces.empty()) break;
+        normalMatrix += glm::outerProduct(plane.normal, plane.normal);
+        rhs += plane.normal * plane.offset;
     }
-
+    // Singular (|det| small against the trace's scale): the normals do not span space, so the region is unbounded.
+    const double trace = normalMatrix[0][0] + normalMatrix[1][1] + normalMatrix[2][2];
+    if (std::abs(glm::determinant(normalMatrix)) > 1e-9 * trace * trace * trace) {
+        cubeCentre = glm::inverse(normalMatrix) * rhs;
+        double farthest = 0.0;
+        for (const HalfSpace& plane : result.planes)
+            farthest = std::max(farthest, std::abs(glm::dot(plane.normal, cubeCentre) - plane.offset));
+        if (maxAbs(cubeCentre) <= 2.0 * kMaxWorldCoordinate) {
+            for (double h = std::max(2.0 * farthest, 1e-6 * std::max(1.0, maxAbs(cubeCentre))); h <= kBigCube;
+                 h *= 8.0) {
+                cubeHalfWidth = h;
+                faces = clipSolid(cubeFaces(cubeCentre, cubeHalfWidth), result.planes);
+                if (!faces.empty() && !reachesCube()) break;
+            }
+        }
+    }
+    if (faces.empty() || reachesCube()) {
+        cubeCentre = Vec3(0.0);
+        cubeHalfWidth = kBigCube;
+        faces = clipSolid(cubeFaces(cubeCentre, cubeHalfWidth), result.planes);
+    }
     if (faces.empty()) throw InputError("the half-spaces have an empty intersection (or only a point or a line)");
+    if (reachesCube()) {
+        throw InputError(
+            concat("the half-spaces do not bound a finite region (or it is more than ", kBigCube, " m across)"));
+    }
     Vec3 centroid(0.0);
     std::size_t vertexCount = 0;
     result.boundsMin = Vec3(std::numeric_limits<double>::infinity());
     result.boundsMax = Vec3(-std::numeric_limits<double>::infinity());
     for (const Polygon& face : faces) {
         for (const Vec3& p : face) {
-            if (maxAbs(p) >= kBigCube * (1.0 - 1e-9)) {
-                throw InputError(concat("the half-spaces do not bound a finite region (or it reaches ", kBigCube,
-                                        " m from the origin)"));
-            }
             result.boundsMin = glm::min(result.boundsMin, p);
             result.boundsMax = glm::max(result.boundsMax, p);
             centroid += p;
             ++vertexCount;
         }
+    }
+    if (maxAbs(result.boundsMin) > kMaxWorldCoordinate || maxAbs(result.boundsMax) > kMaxWorldCoordinate) {
+        throw InputError(concat("the solid reaches ", std::max(maxAbs(result.boundsMin), maxAbs(result.boundsMax)),
+                                " m from the origin along an axis; world coordinates are limited to +-",
+                                kMaxWorldCoordinate, " m"));
     }
     centroid /= static_cast<double>(vertexCount);
 
@@ -450,8 +499,17 @@ ConvexPolyhedron makeConvexPolyhedron(const std::vector<HalfSpace>& planes) {
             volume += glm::dot(face[0] - centroid, glm::cross(face[i] - centroid, face[i + 1] - centroid)) / 6.0;
         }
     }
-    if (!(volume > 1e-12)) {
-        throw InputError(concat("the half-spaces bound a flat region (volume ", volume, " m^3), not a solid"));
+    // Flat, relative to its size: thinner than a billionth of its extent cubed. Smaller than the smallest size the
+    // project format allows for a polygon, it is refused as such.
+    const double extent = glm::length(result.boundsMax - result.boundsMin);
+    if (!(volume > 1e-9 * extent * extent * extent)) {
+        throw InputError(
+            concat("the half-spaces bound a flat region (volume ", volume, " m^3 across ", extent, " m), not a solid"));
+    }
+    if (extent < kMinPolygonSize) {
+        throw InputError(concat("the solid is ", extent,
+                                " m across (its bounding box's diagonal); the smallest allowed is ", kMinPolygonSize,
+                                " m"));
     }
     result.faces = std::move(faces);
     result.volume = volume;

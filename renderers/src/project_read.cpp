@@ -292,6 +292,18 @@ HomogeneousMedium readMedium(const JsonField& f) {
     medium.box = readBox(f["box"]);
     forEachElement(f["planes"], [&](const JsonField& plane) { medium.planes.push_back(readPlane(plane)); });
     if (medium.shape == MediumShape::ConvexPolyhedron) requireBoundedPolyhedron(f["planes"], medium.planes);
+    // A box is a polyhedron of six planes to every renderer: what they would refuse is refused here, by its field.
+    if (medium.shape == MediumShape::Box) {
+        if (glm::length(medium.box.size) < kMinPolygonSize)
+            f["box"]["size"].fail("the box is " + formatNumber(glm::length(medium.box.size)) +
+                                  " m across (its diagonal); the smallest allowed is " + formatNumber(kMinPolygonSize) +
+                                  " m");
+        try {
+            makeConvexPolyhedron(boxHalfSpaces(medium.box));
+        } catch (const InputError& e) {
+            f["box"].fail(e.message());
+        }
+    }
     return medium;
 }
 
@@ -326,6 +338,10 @@ ParticleGenerator readGenerator(const JsonField& f) {
     g.count = f["count"].intInRangeOr(g.count, 0, kMaxParticleCount);
     g.seed = f["seed"].unsignedIntegerOr(g.seed);
     g.region = readBox(f["region"]);
+    if (std::min({g.region.size.x, g.region.size.y, g.region.size.z}) < kMinPolygonSize)
+        f["region"]["size"].fail("each side must be at least " + formatNumber(kMinPolygonSize) +
+                                 " m (the smallest size the format allows, as for polygons), got " +
+                                 formatVec3(g.region.size));
     g.scale = f["scale"].numberOr(g.scale);
     requireAbove(f["scale"], g.scale, 0.0);
     requireInWorld(f["scale"], g.region.centre, 0.5 * glm::length(g.region.size) + g.scale);
@@ -424,6 +440,8 @@ AngularDistribution readDistribution(const JsonField& f) {
     requireSpotExponent(f["exponent"], d.spotExponent);
     d.coefficients = f["coefficients"].numbersOr({});
     requireAtMostTerms(f["coefficients"], d.coefficients);
+    for (std::size_t k = 0; k < d.coefficients.size(); ++k)
+        requireInRange(f["coefficients"][k], d.coefficients[k], -kMaxRadiometric, kMaxRadiometric);
     if (d.kind == AngularDistribution::Kind::Polynomial) requireValidPolynomial(f["coefficients"], d.coefficients);
     if (d.kind == AngularDistribution::Kind::Legendre)
         requireValidPolynomial(f["coefficients"], legendreToMonomial(d.coefficients));
@@ -442,6 +460,19 @@ PointLight readPointLight(const JsonField& f) {
     light.intensity = f["intensity"].rgbOr(light.intensity);
     requireEachInRange(f["intensity"], light.intensity, 0.0, kMaxRadiometric);
     light.distribution = readDistribution(f["distribution"]);
+    // The radiometric limit holds for the light's brightest direction: its intensity times the distribution's peak,
+    // so that every renderer (in float on the GPU) stays finite.
+    const std::vector<double> c = light.distribution.polynomial();
+    Minimum peak{polynomialAt(c, -1.0), -1.0};
+    for (double mu : unitIntervalSamples())
+        if (const double v = polynomialAt(c, mu); v > peak.value) peak = {v, mu};
+    const double brightest = std::max({light.intensity.r, light.intensity.g, light.intensity.b}) * peak.value;
+    if (!(brightest <= kMaxRadiometric)) {
+        f["distribution"]["coefficients"].fail(
+            "the light's peak intensity (its intensity times the distribution's largest value, " +
+            formatNumber(peak.value) + " at cos = " + formatNumber(peak.at) + ") must be at most " +
+            formatNumber(kMaxRadiometric) + " W/sr, got " + formatNumber(brightest));
+    }
     return light;
 }
 

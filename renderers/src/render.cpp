@@ -26,6 +26,42 @@ const View& findView(const Project& project, const std::string& name) {
     throw InputError(InputLocation{"", 0, 0, "view"}, message);
 }
 
+// How the field of an error raised inside a job relates to the project: while the job is made, fields are the
+// project's own ("camera"); once a technique checks or renders, they are relative to the view's part ("lights" is the
+// view's lights, views[i].lights).
+enum class Fields { Project, OfTheView };
+
+// An InputError raised while a job is made, checked or run, with what it lacks filled in: the project file, the field
+// of the job's part (views[i] for a view; nothing more for the reference of the whole scene) and the job's label in
+// the message. Errors that already name a file keep it (an OBJ file, a table).
+InputError inContext(const InputError& e, const std::string& file, const std::string& viewField,
+                     const std::string& label, Fields fields) {
+    InputLocation where = e.where();
+    std::string message = e.message();
+    if (where.file.empty()) where.file = file;
+    if (where.field.empty()) {
+        where.field = viewField;
+    } else if (fields == Fields::OfTheView && !viewField.empty()) {
+        where.field = viewField + "." + where.field;
+    }
+    if (!label.empty() && message.find(label) == std::string::npos) message = label + ": " + message;
+    return InputError(where, message);
+}
+
+template <typename F>
+decltype(auto) withContext(const std::string& file, const std::string& viewField, const std::string& label,
+                           Fields fields, F&& body) {
+    try {
+        return body();
+    } catch (const InputError& e) {
+        throw inContext(e, file, viewField, label, fields);
+    }
+}
+
+std::string viewField(const Project& project, const View& view) {
+    return "views[" + std::to_string(&view - project.views.data()) + "]";
+}
+
 ParamSet paramsFromJson(const Technique& technique, const nlohmann::json& values, const std::string& field) {
     ParamSet params = technique.defaultParams();
     for (const auto& [key, value] : values.items()) {
@@ -66,7 +102,7 @@ void checkSupported(const Technique& technique, const Scene& scene, const std::s
     if (missing.empty()) return;
     std::string message = technique.name() + " cannot render the part of the scene of " + label + ":";
     for (const std::string& m : missing) message += "\n  " + m;
-    throw InputError(InputLocation{"", 0, 0, "views"}, message);
+    throw InputError(message);  // the job's context adds the file and views[i]
 }
 
 void checkImageSize(const Camera& camera) {
@@ -87,13 +123,8 @@ void noteLeftOut(RenderJob& job, const Project& project, const View& view, const
     job.metadata["leftOut"] = joined;
 }
 
-}  // namespace
-
-RenderJob makeViewJob(const Project& project, const std::string& projectPath, const std::string& viewName,
-                      const JobOptions& options) {
-    const View& view = findView(project, viewName);
-    RenderJob job;
-    job.label = "view '" + view.name + "'";
+void fillViewJob(RenderJob& job, const Project& project, const std::string& projectPath, const View& view,
+                 const JobOptions& options) {
     job.technique = createTechnique(view.technique);
     job.request.scene = resolvePart(project, view).apply(project.scene);
     checkSupported(*job.technique, job.request.scene, job.label);
@@ -106,23 +137,19 @@ RenderJob makeViewJob(const Project& project, const std::string& projectPath, co
     job.metadata["view"] = view.name;
     job.metadata["projectHash"] = projectHash(project);
     noteLeftOut(job, project, view, *job.technique);
-    return job;
 }
 
-RenderJob makeReferenceJob(const Project& project, const std::string& projectPath, const std::string& viewName,
-                           const JobOptions& options) {
-    RenderJob job;
+// The reference of `view`'s part, or of the whole scene when it is null.
+void fillReferenceJob(RenderJob& job, const Project& project, const std::string& projectPath, const View* view,
+                      const JobOptions& options) {
     job.technique = createTechnique("reference");
-    if (viewName.empty()) {
-        job.label = "the reference of the whole scene";
+    if (!view) {
         job.request.scene = project.scene;
     } else {
-        const View& view = findView(project, viewName);
-        job.label = "the reference of view '" + view.name + "'";
-        job.request.scene = resolvePart(project, view).apply(project.scene);
-        job.exposure = view.exposure;
-        job.metadata["view"] = view.name;
-        noteLeftOut(job, project, view, *createTechnique(view.technique));
+        job.request.scene = resolvePart(project, *view).apply(project.scene);
+        job.exposure = view->exposure;
+        job.metadata["view"] = view->name;
+        noteLeftOut(job, project, *view, *createTechnique(view->technique));
     }
     checkImageSize(job.request.scene.camera);
     job.request.params = job.technique->defaultParams();
@@ -135,15 +162,48 @@ RenderJob makeReferenceJob(const Project& project, const std::string& projectPat
     applyOptions(job.request, options);
     job.metadata["reference"] = "true";
     job.metadata["projectHash"] = projectHash(project);
-    return job;
+}
+
+}  // namespace
+
+RenderJob makeViewJob(const Project& project, const std::string& projectPath, const std::string& viewName,
+                      const JobOptions& options) {
+    const View& view =
+        withContext(projectPath, "", "", Fields::Project, [&]() -> const View& { return findView(project, viewName); });
+    RenderJob job;
+    job.label = "view '" + view.name + "'";
+    job.projectPath = projectPath;
+    job.field = viewField(project, view);
+    return withContext(projectPath, job.field, job.label, Fields::Project, [&] {
+        fillViewJob(job, project, projectPath, view, options);
+        return std::move(job);
+    });
+}
+
+RenderJob makeReferenceJob(const Project& project, const std::string& projectPath, const std::string& viewName,
+                           const JobOptions& options) {
+    RenderJob job;
+    job.projectPath = projectPath;
+    const View* view = nullptr;
+    if (!viewName.empty()) {
+        view = &withContext(projectPath, "", "", Fields::Project,
+                            [&]() -> const View& { return findView(project, viewName); });
+        job.field = viewField(project, *view);
+    }
+    job.label = view ? "the reference of view '" + view->name + "'" : "the reference of the whole scene";
+    return withContext(projectPath, job.field, job.label, Fields::Project, [&] {
+        fillReferenceJob(job, project, projectPath, view, options);
+        return std::move(job);
+    });
 }
 
 void checkJob(const RenderJob& job) {
-    job.technique->check(job.request);
+    withContext(job.projectPath, job.field, job.label, Fields::OfTheView, [&] { job.technique->check(job.request); });
 }
 
 RenderResult runJob(RenderJob& job, const RenderCallbacks& callbacks) {
-    RenderResult result = job.technique->render(job.request, callbacks);
+    RenderResult result = withContext(job.projectPath, job.field, job.label, Fields::OfTheView,
+                                      [&] { return job.technique->render(job.request, callbacks); });
     for (const auto& [key, value] : job.metadata) result.image.metadata[key] = value;
     result.image.metadata["technique"] = job.technique->name();
     result.image.metadata["spp"] = std::to_string(result.spp);

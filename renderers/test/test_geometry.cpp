@@ -105,6 +105,10 @@ std::string inputErrorOf(F&& f) {
     return "";
 }
 
+double maxAbsOf(const Vec3& v) {
+    return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+}
+
 bool contains(const std::string& text, const std::string& part) {
     return text.find(part) != std::string::npos;
 }
@@ -413,6 +417,39 @@ TEST(Polyhedron, FromABoxsHalfSpacesHasTheBoxVolumeAndSixFaces) {
     }
     EXPECT_NEAR(glm::distance(solid.boundsMin, lo), 0.0, 1e-8);
     EXPECT_NEAR(glm::distance(solid.boundsMax, hi), 0.0, 1e-8);
+}
+
+// Issue 34: a box far from the origin, within the world's +-1e8 m, was refused as an "empty intersection" (the solid
+// was looked for within 1e5 m of the origin only).
+TEST(Polyhedron, ABoxFarFromTheOriginWithinTheWorldIsFound) {
+    for (const Vec3& centre : {Vec3(0.0, 1.0, -1e6), Vec3(3e7, -2e7, 9e7), Vec3(-9.9e7, 0.0, 0.0)}) {
+        OrientedBox box;
+        box.centre = centre;
+        box.size = Vec3(2.0, 1.0, 4.0);
+        box.rotate = Vec3(10.0, 20.0, 30.0);
+        const ConvexPolyhedron solid = makeConvexPolyhedron(boxHalfSpaces(box));
+        // Coordinates near 1e8 m carry about 1e-8 m of rounding: the volume to that relative to a face's area.
+        EXPECT_NEAR(solid.volume, 8.0, 1e-8 * std::max(1.0, maxAbsOf(centre))) << centre.x;
+        ASSERT_EQ(solid.faces.size(), 6u);
+        EXPECT_NEAR(glm::distance(0.5 * (solid.boundsMin + solid.boundsMax), centre), 0.0,
+                    1e-12 * std::max(1.0, maxAbsOf(centre)));
+    }
+    // Beyond the world's limits it is refused, naming the limit.
+    OrientedBox beyond;
+    beyond.centre = Vec3(0.0, 0.0, 1e8);
+    beyond.size = Vec3(1.0);
+    const std::string message = inputErrorOf([&] { makeConvexPolyhedron(boxHalfSpaces(beyond)); });
+    EXPECT_TRUE(contains(message, "world coordinates are limited to +-1e+08 m")) << message;
+}
+
+// A solid below the smallest size the format allows (1e-6 m, as polygons) is refused (the project reader names the
+// limit for a box); one just above it is a solid, not "flat".
+TEST(Polyhedron, TinySolidsAreRefusedAndSmallOnesKept) {
+    OrientedBox box;
+    box.size = Vec3(1e-7);
+    EXPECT_FALSE(inputErrorOf([&] { makeConvexPolyhedron(boxHalfSpaces(box)); }).empty());
+    box.size = Vec3(2e-6);
+    EXPECT_NEAR(makeConvexPolyhedron(boxHalfSpaces(box)).volume, 8e-18, 1e-24);
 }
 
 TEST(Polyhedron, BoxHalfSpacesFaceOutwardsAndContainTheCentre) {

@@ -15,6 +15,12 @@ namespace tyndall {
 
 struct RenderJob {
     std::string label;                      // "view 'fog'" or "reference of view 'fog'"
+    // Where the job's input errors point when they carry no place of their own: the project file and the field of the
+    // job's view ("views[2]"; empty for the reference of the whole scene). makeViewJob, makeReferenceJob, checkJob and
+    // runJob fill them into every InputError they pass on, with the label; a technique's fields become the view's
+    // ("lights" -> "views[2].lights").
+    std::string projectPath;
+    std::string field;
     std::unique_ptr<Technique> technique;
     RenderRequest request;
     double exposure = 0.0;                  // the view's exposure, for PNGs and PSNR
