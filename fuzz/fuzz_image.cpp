@@ -1,6 +1,7 @@
-// libFuzzer target: an image file as `tyndall compare` reads it (readImage, then the metrics and a difference image
-// against itself). The bytes are written to a file of this process (OpenImageIO reads files) with the extension of the
-// first byte's choice: even .exr, odd .png. InputError is the expected answer; anything else escaping is a finding.
+// libFuzzer target: an image file as `tyndall compare` reads it (readLinearExr for .exr, readImage as the studio opens
+// any other image, then the metrics and a difference image against itself). The bytes are written to a file of this
+// process (OpenImageIO reads files) with the extension of the first byte's choice: even .exr, odd .png. InputError is
+// the expected answer; anything else escaping is a finding. Seeds include a PNG named .exr and an EXR with a NaN.
 #include "tyndall/error.h"
 #include "tyndall/image_io.h"
 #include "tyndall/metrics.h"
@@ -23,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::fwrite(data + 1, 1, size - 1, file);
     std::fclose(file);
     try {
-        const tyndall::Image image = tyndall::readImage(path);
+        const tyndall::Image image = data[0] % 2 ? tyndall::readImage(path) : tyndall::readLinearExr(path, "images");
         (void)tyndall::computeMetrics(image, image, 0.0, tyndall::Region{});
         (void)tyndall::differenceImage(image, image, tyndall::DifferenceKind::Signed, 1.0);
     } catch (const tyndall::InputError&) {

@@ -1,6 +1,7 @@
 // Reliability of the tyndall CLI (issue 21): no crash on any input, exit 2 with file and field for bad input, exit 1
 // for environment failures, and outputs that appear completely or not at all. The inputs are files in tests/data/.
 #include "tyndall/image_io.h"
+#include "tyndall/ltsd_table.h"
 #include "tyndall/output.h"
 #include "tyndall/project.h"
 #include "tyndall/scene.h"
@@ -11,10 +12,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -28,8 +33,9 @@ struct CliRun {
     std::string output;  // stdout and stderr
 };
 
-CliRun tyndall(const std::string& args) {
-    const std::string command = std::string(TYNDALL_CLI) + " " + args + " 2>&1";
+// `environment` is prefixed to the command line, e.g. "TYNDALL_TABLES_DIR='/tmp/x' ".
+CliRun tyndall(const std::string& args, const std::string& environment = "") {
+    const std::string command = environment + std::string(TYNDALL_CLI) + " " + args + " 2>&1";
     CliRun run;
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return run;
@@ -124,6 +130,17 @@ const std::vector<BadProject>& badProjects() {
         // Rendered as all-black images with exit 0 (every sample overflowed and was zeroed).
         {"light_radiance_1e300.json", {"lights[0].radiance", "must be in [0, 1e+15]"}},
         {"medium_sigma_s_1e300.json", {"media[0].sigma_s", "must be in [0, 1e+06]"}},
+        // Issue 34: validated, then failed to render with most samples non-finite.
+        {"distribution_coefficients_1e308.json",
+         {"distribution_coefficients_1e308.json", "lights[0].distribution.coefficients[0]",
+          "must be in [-1e+15, 1e+15]"}},
+        {"particle_region_1e-308.json",
+         {"particle_region_1e-308.json", "particleMedia[0].generator.region.size",
+          "each side must be at least 1e-06 m"}},
+        {"distribution_peak_over_limit.json",
+         {"lights[0].distribution.coefficients", "peak intensity", "must be at most 1e+15 W/sr"}},
+        // Issue 34: refused at render time without the file or the field.
+        {"box_medium_tiny.json", {"box_medium_tiny.json", "media[0].box.size", "the smallest allowed is 1e-06 m"}},
     };
     return projects;
 }
@@ -268,7 +285,8 @@ TEST(Reliability, CompareWritesNothingWhenAnyInputFails) {
     // A PNG holds display values, not linear ones.
     const std::string png = (dir / "a.png").string();
     ASSERT_EQ(tyndall("render '" + project + "' --view ref --spp 1 -o '" + png + "'").exitCode, 0);
-    expectRefused(tyndall("compare '" + png + "' -r '" + a + "'"), "a PNG", {"a.png", "must be an .exr file"});
+    expectRefused(tyndall("compare '" + png + "' -r '" + a + "'"), "a PNG",
+                  {"a.png", "must be an OpenEXR image (.exr)"});
     expectRefused(tyndall("compare '" + a + "' -r '" + a + "' --diff-scale nan"), "--diff-scale nan", {"--diff-scale"});
     // A size mismatch names the file.
     const std::string small = (dir / "small.exr").string();
@@ -303,6 +321,176 @@ TEST(Reliability, StaleTemporariesOfDeadWritersAreRemoved) {
     EXPECT_FALSE(fs::exists(dir / stale));
     EXPECT_TRUE(fs::exists(dir / live));
     EXPECT_EQ(tyndall::removeStaleTemporaries((dir / "out.exr").string()), 0);
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Issue 34: refusals name their file and field; what validates renders; compare never reports NaN as a result.
+
+TEST(Reliability, PerViewLimitsNameTheFileAndTheView) {
+    const std::string isv = data("isv_two_lights.json"), ltsd = data("ltsd_nine_area_lights.json");
+    expectRefused(tyndall("validate '" + isv + "'"), "ISV, two lights",
+                  {"isv_two_lights.json: views[1].lights: view 'smoke': ", "ISV renders one light"});
+    expectRefused(tyndall("validate '" + ltsd + "'"), "LTSD, nine area lights",
+                  {"ltsd_nine_area_lights.json: views[1].lights: view 'panels': ", "area lights per view, got 9"});
+    const fs::path dir = scratch("per-view");
+    const std::string out = (dir / "x.exr").string();
+    expectRefused(tyndall("render '" + isv + "' --view smoke --spp 1 -o '" + out + "'"), "render ISV",
+                  {"isv_two_lights.json: views[1].lights: ", "ISV renders one light"});
+    EXPECT_FALSE(fs::exists(out));
+    // The reference of the same project renders: the limit is the view's, not the project's.
+    EXPECT_EQ(tyndall("render '" + isv + "' --view ref --spp 1 -o '" + out + "'").exitCode, 0);
+}
+
+TEST(Reliability, AnImageTooLargeNamesTheFile) {
+    const fs::path dir = scratch("too-large");
+    const std::string project = tinyProject(dir);
+    expectRefused(tyndall("validate '" + project + "' --set camera.width=16384 --set camera.height=16384"),
+                  "16384 x 16384", {"tiny.json: camera: ", "16384 x 16384 pixels is too large"});
+}
+
+TEST(Reliability, ABoxMediumFarFromTheOriginRendersWithinTheWorldLimits) {
+    // Centred 1e6 m away (the world is +-1e8 m): refused as an "empty intersection" before.
+    const std::string project = data("box_medium_far.json");
+    const CliRun validate = tyndall("validate '" + project + "'");
+    EXPECT_EQ(validate.exitCode, 0) << validate.output;
+    const fs::path dir = scratch("far-box");
+    const std::string out = (dir / "far.exr").string();
+    const CliRun render = tyndall("render '" + project + "' --view ref --spp 4 -o '" + out + "'");
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+    // The camera looks into the lit fog: the image is finite and not black.
+    const tyndall::Image image = tyndall::readImage(out);
+    double sum = 0.0;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) {
+            ASSERT_TRUE(std::isfinite(image.at(x, y, 0)));
+            sum += image.at(x, y, 0);
+        }
+    EXPECT_GT(sum, 0.0);
+}
+
+namespace {
+
+// A copy of the shipped tables in `dir`, hg.ltsd changed by `edit` and its checksum recomputed.
+void corruptHgTable(const fs::path& dir, const std::function<void(std::vector<std::uint8_t>&)>& edit) {
+    fs::create_directories(dir);
+    for (const auto& entry : fs::directory_iterator(std::string(TYNDALL_SOURCE_DIR) + "/tables")) {
+        const std::string ext = entry.path().extension().string();
+        if (ext == ".ltsd" || ext == ".ltc" || ext == ".json")
+            fs::copy_file(entry.path(), dir / entry.path().filename(), fs::copy_options::overwrite_existing);
+    }
+    const std::string text = readFile(dir / "hg.ltsd");
+    std::vector<std::uint8_t> bytes(text.begin(), text.end());
+    edit(bytes);
+    const std::uint64_t checksum = tyndall::ltsdTableChecksum(bytes);
+    std::memcpy(bytes.data() + 48, &checksum, 8);
+    writeFile(dir / "hg.ltsd", std::string(bytes.begin(), bytes.end()));
+}
+
+void setFloat(std::vector<std::uint8_t>& bytes, std::size_t offset, float value) {
+    std::memcpy(bytes.data() + offset, &value, 4);
+}
+
+}  // namespace
+
+TEST(Reliability, ACorruptedTableIsRefusedByEveryCommandThatReadsIt) {
+    const fs::path dir = scratch("corrupt-tables");
+    const std::string polygon = "'[[0.3,0.2,-1],[-0.3,0.2,-1],[0,-0.3,-1]]'";
+    const std::string hgEval = "tables eval --phase '{\"type\":\"hg\",\"g\":0.5}' --polygon " + polygon;
+    const std::string ltsdProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/ltsd-room.json";
+
+    // The header's phase type changed to another table's (the checksum recomputed): a contract failure before.
+    corruptHgTable(dir / "phase", [](std::vector<std::uint8_t>& b) {
+        std::memset(b.data() + 24, 0, 16);
+        std::memcpy(b.data() + 24, "rayleigh", 8);
+    });
+    const std::string tables = " --tables '" + (dir / "phase").string() + "'";
+    const std::vector<std::string> phrases = {"hg.ltsd", "header.phase", "fits 'rayleigh'", "must hold the 'hg' table"};
+    expectRefused(tyndall("tables hg" + tables), "tables hg", phrases);
+    expectRefused(tyndall("tables" + tables), "tables", phrases);
+    expectRefused(tyndall(hgEval + tables), "tables eval", phrases);
+    const std::string env = "TYNDALL_TABLES_DIR='" + (dir / "phase").string() + "' ";
+    expectRefused(tyndall("validate '" + ltsdProject + "'", env), "validate an LTSD project", phrases);
+    const std::string out = (dir / "room.exr").string();
+    const CliRun render =
+        tyndall("render '" + ltsdProject + "' --view ltsd --spp 1 --size 16x12 -o '" + out + "'", env);
+    expectRefused(render, "render an LTSD view", phrases);
+    EXPECT_FALSE(fs::exists(out));
+
+    // A NaN or an out-of-order per-entry g: accepted and rendered before.
+    corruptHgTable(dir / "nan-g", [](std::vector<std::uint8_t>& b) { setFloat(b, 64 + 48 * 5 + 44, std::nanf("")); });
+    expectRefused(tyndall("tables hg --tables '" + (dir / "nan-g").string() + "'"), "NaN g",
+                  {"hg.ltsd", "entries[5].g", "got nan"});
+    corruptHgTable(dir / "swapped-g", [](std::vector<std::uint8_t>& b) {
+        std::swap_ranges(b.begin() + 64 + 48 * 3, b.begin() + 64 + 48 * 4, b.begin() + 64 + 48 * 7);
+    });
+    expectRefused(tyndall(hgEval + " --tables '" + (dir / "swapped-g").string() + "'"), "swapped entries",
+                  {"hg.ltsd", "entries[3].g", "must be the entry's table coordinate"});
+}
+
+TEST(Reliability, CompareRefusesWhatIsNotAFiniteLinearImage) {
+    const fs::path dir = scratch("compare-inputs");
+    const std::string project = tinyProject(dir);
+    const std::string a = (dir / "a.exr").string(), png = (dir / "a.png").string();
+    ASSERT_EQ(tyndall("render '" + project + "' --view ref --spp 1 -o '" + a + "' -o '" + png + "'").exitCode, 0);
+
+    // A PNG renamed .exr is display values still.
+    fs::copy_file(png, dir / "renamed.exr");
+    expectRefused(tyndall("compare '" + (dir / "renamed.exr").string() + "' -r '" + a + "'"), "PNG named .exr",
+                  {"renamed.exr", "holds a png image"});
+    // Another extension is named as such (not as a PNG).
+    fs::copy_file(a, dir / "a.hdr");
+    const CliRun hdr = tyndall("compare '" + (dir / "a.hdr").string() + "' -r '" + a + "'");
+    expectRefused(hdr, ".hdr", {"a.hdr", "got '.hdr'"});
+    EXPECT_EQ(hdr.output.find("PNG"), std::string::npos) << hdr.output;
+
+    // NaN pixels: exit 0 with "nan" metrics before.
+    tyndall::Image image = tyndall::readImage(a);
+    image.at(3, 2, 1) = std::nanf("");
+    tyndall::writeImage(image, (dir / "nan.exr").string());
+    const std::string json = (dir / "m.json").string();
+    const CliRun nan = tyndall("compare '" + (dir / "nan.exr").string() + "' -r '" + a + "' --json '" + json + "'");
+    expectRefused(nan, "NaN pixels", {"nan.exr", "not finite", "pixel (3, 2), channel G"});
+    EXPECT_FALSE(fs::exists(json));
+    expectRefused(tyndall("compare '" + a + "' -r '" + (dir / "nan.exr").string() + "'"), "NaN reference",
+                  {"nan.exr", "--reference"});
+
+    // The reference's exposure metadata: NaN was refused naming the other file, "abc" was read as 0.
+    for (const char* bad : {"nan", "abc", "1e999", ""}) {
+        tyndall::Image withExposure = tyndall::readImage(a);
+        withExposure.metadata["exposure"] = bad;
+        const std::string ref = (dir / "exposure.exr").string();
+        tyndall::writeImage(withExposure, ref);
+        const CliRun run = tyndall("compare '" + a + "' -r '" + ref + "'");
+        expectRefused(run, std::string("exposure '") + bad + "'", {"exposure.exr: metadata.exposure: ", "[-20, 20]"});
+        // --exposure replaces the metadata, so the comparison runs.
+        EXPECT_EQ(tyndall("compare '" + a + "' -r '" + ref + "' --exposure 0").exitCode, 0) << bad;
+    }
+}
+
+TEST(Reliability, SmallArgumentProblemsHaveExactAnswers) {
+    const fs::path dir = scratch("small");
+    const std::string project = tinyProject(dir);
+    // -0 is the number 0.
+    const CliRun seed = tyndall("validate '" + project + "' --set reference.seed=-0");
+    EXPECT_EQ(seed.exitCode, 0) << seed.output;
+    // Any finite direction normalises, 1e308 included.
+    const CliRun huge = tyndall(
+        "tables eval --phase '{\"type\":\"isotropic\"}' --polygon "
+        "'[[1e308,0,1e308],[0,1e308,1e308],[-1e308,-1e308,1e308]]'");
+    EXPECT_EQ(huge.exitCode, 0) << huge.output;
+    expectRefused(tyndall("tables eval --phase '{\"type\":\"isotropic\"}' --polygon '[[1e308,0,0],[0,0,0],[0,1,1]]'"),
+                  "a zero vertex", {"--polygon", "vertex 1 must be a finite, non-zero direction"});
+    // An empty --pixel is not the centre.
+    expectRefused(tyndall("probe '" + project + "' --view ref --probe distances --pixel ''"), "--pixel ''",
+                  {"--pixel", "is not x,y"});
+    // A name the file system cannot hold (with the temporary's suffix) is bad input, exit 2.
+    const std::string longName = (dir / (std::string(300, 'n') + ".exr")).string();
+    expectRefused(tyndall("render '" + project + "' --view ref --spp 1 -o '" + longName + "'"), "300-byte name",
+                  {"names are limited to 231 bytes"});
+    const std::string nearLimit = (dir / (std::string(240, 'n') + ".png")).string();
+    expectRefused(tyndall("render '" + project + "' --view ref --spp 1 -o '" + nearLimit + "'"), "244-byte name",
+                  {"names are limited to 231 bytes"});
+    EXPECT_EQ(filesIn(dir), std::vector<std::string>({"tiny.json"}));
 }
 
 }  // namespace

@@ -218,6 +218,45 @@ Image readImage(const std::string& path) {
     return image;
 }
 
+Image readLinearExr(const std::string& path, const std::string& field) {
+    const std::string ext = lowercase(fs::path(path).extension().string());
+    if (ext != ".exr") {
+        const bool display = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff";
+        throw InputError(InputLocation{.file = path, .field = field},
+                         "must be an OpenEXR image (.exr), got " +
+                             (ext.empty() ? std::string("a name without an extension") : "'" + ext + "'") +
+                             (display ? ": metrics need linear values, and such a file holds display (tonemapped) ones"
+                                      : ": metrics read the linear RGB and variance channels Tyndall writes to .exr "
+                                        "(oiiotool converts other formats)"));
+    }
+    std::error_code ec;
+    if (fs::is_regular_file(path, ec)) {
+        // By its content too: a PNG renamed .exr is still display values.
+        std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+        if (in && std::string(in->format_name()) != "openexr")
+            throw InputError(InputLocation{.file = path, .field = field},
+                             "is named .exr but holds a " + std::string(in->format_name()) +
+                                 " image; metrics need an OpenEXR image of linear values");
+        if (!in) OIIO::geterror();  // readImage below reports it
+    }
+    Image image = readImage(path);
+    long long nonFinite = 0;
+    int firstX = -1, firstY = -1, firstChannel = -1;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+            for (int c = 0; c < image.channelCount(); ++c)
+                if (!std::isfinite(image.at(x, y, c)) && nonFinite++ == 0) firstX = x, firstY = y, firstChannel = c;
+    if (nonFinite > 0) {
+        throw InputError(InputLocation{.file = path, .field = field},
+                         std::to_string(nonFinite) + " values are not finite (the first: pixel (" +
+                             std::to_string(firstX) + ", " + std::to_string(firstY) + "), channel " +
+                             image.channels()[std::size_t(firstChannel)] + ", " +
+                             std::to_string(image.at(firstX, firstY, firstChannel)) +
+                             "); metrics need finite values (Tyndall's renders count non-finite samples as 0)");
+    }
+    return image;
+}
+
 // Both evaluated in double, so that 1 maps to exactly 1 (in float, 1.055f - 0.055f is not 1).
 float srgbEncode(float linear) {
     if (std::isnan(linear)) return 0.0f;

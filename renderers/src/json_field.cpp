@@ -289,6 +289,8 @@ std::int64_t JsonField::integer() const {
 
 std::uint64_t JsonField::unsignedInteger() const {
     if (present() && value_->is_number_unsigned()) return value_->get<std::uint64_t>();
+    // "-0" parses as a signed integer 0: it is the number 0, so it is taken as such.
+    if (present() && value_->is_number_integer() && value_->get<std::int64_t>() == 0) return 0;
     if (present() && value_->is_number_float()) {
         const double d = value_->get<double>();
         if (isIntegral(d) && d >= 0.0 && d < 0x1.0p64) return static_cast<std::uint64_t>(d);

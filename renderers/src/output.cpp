@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <climits>
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
@@ -26,6 +27,11 @@ std::string errnoText(int error) {
 }
 
 [[noreturn]] void fail(const std::string& path, const std::string& step, int error) {
+    // A name the file system cannot hold is the caller's mistake (exit 2), not the environment's (exit 1).
+    if (error == ENAMETOOLONG)
+        throw InputError(InputLocation{.file = path.substr(0, 80) + (path.size() > 80 ? "..." : "")},
+                         "cannot save: " + step + ": " + errnoText(error) + " (a path is limited to " +
+                             std::to_string(PATH_MAX) + " bytes, each name in it to " + std::to_string(NAME_MAX) + ")");
     throw OutputError("cannot write '" + path + "': " + step + ": " + errnoText(error));
 }
 
@@ -97,6 +103,18 @@ void OutputSet::stage(const std::string& path, const std::string& bytes) {
                          "cannot save: the folder '" + folderOf(target).string() + "' does not exist");
     }
     if (fs::is_directory(target, ec)) throw InputError(InputLocation{.file = path}, "cannot save: it is a folder");
+    // The temporary beside the file ("." + name + ".tyndall-<pid>-XXXXXX", the pid at most 7 digits on Linux) must fit
+    // NAME_MAX too, so a name that the folder would take but its temporary would not is refused here, with the limit.
+    const std::size_t overhead = 1 + std::char_traits<char>::length(kTemporaryInfix) + 7 + 7;
+    const std::size_t nameBytes = target.filename().string().size();
+    if (nameBytes + overhead > std::size_t(NAME_MAX)) {
+        throw InputError(InputLocation{.file = path.substr(0, 80) + (path.size() > 80 ? "..." : "")},
+                         "cannot save: the file name is " + std::to_string(nameBytes) +
+                             " bytes long; names are limited "
+                             "to " +
+                             std::to_string(NAME_MAX - overhead) + " bytes (" + std::to_string(NAME_MAX) +
+                             " for the folder, less the temporary name's suffix)");
+    }
     removeStaleTemporaries(target.string());
     std::string name = (folderOf(target) / ("." + target.filename().string() + kTemporaryInfix +
                                            std::to_string(::getpid()) + "-XXXXXX"))

@@ -103,10 +103,18 @@ void checkTextOutputPath(const std::string& path, const char* field) {
         throw InputError(InputLocation{"", 0, 0, field}, "'" + path + "' is a directory; name a file");
 }
 
-// A compare or probe input image: linear float data, so EXR only (a PNG holds display values).
-void requireExr(const std::string& path, const char* field) {
-    if (extensionOf(path) != ".exr")
-        throw InputError(InputLocation{path, 0, 0, field}, "must be an .exr file: metrics need linear values, and a PNG holds tonemapped ones");
+// The exposure a reference image carries in its metadata (Tyndall writes the view's), for PSNR; 0 when absent.
+double exposureFromMetadata(const Image& reference, const std::string& path) {
+    const auto it = reference.metadata.find("exposure");
+    if (it == reference.metadata.end()) return 0.0;
+    const std::string& text = it->second;
+    char* end = nullptr;
+    const double exposure = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(exposure) || std::abs(exposure) > 20.0)
+        throw InputError(
+            InputLocation{path, 0, 0, "metadata.exposure"},
+            "must be a number of stops in [-20, 20], got '" + text.substr(0, 60) + "' (or give --exposure)");
+    return exposure;
 }
 
 // "1 view", "3 views".
@@ -194,11 +202,15 @@ int probe(const ProbeArgs& args) {
         options.seed = args.seed;
         RenderJob job = makeViewJob(project, args.project, args.view, options);
         int x = project.scene.camera.width / 2, y = project.scene.camera.height / 2;
-        if (!args.pixel.empty()) {
+        if (args.pixel) {
+            // Given, it must be a pixel: an empty value is not "the default" (leave the option out for the centre).
             char comma = 0, rest = 0;
-            std::istringstream in(args.pixel);
+            std::istringstream in(*args.pixel);
             if (!(in >> x >> comma >> y) || comma != ',' || (in >> rest))
-                throw InputError(InputLocation{"", 0, 0, "--pixel"}, "'" + args.pixel + "' is not x,y, e.g. 120,80");
+                throw InputError(InputLocation{"", 0, 0, "--pixel"},
+                                 "'" + args.pixel->substr(0, 60) +
+                                     "' is not x,y, e.g. 120,80 (leave --pixel out for "
+                                     "the image centre)");
         }
         const ProbeResult r = job.technique->probe(job.request, args.probe, x, y);
         nlohmann::json j;
@@ -260,18 +272,18 @@ int compare(const CompareArgs& args) {
         else throw InputError(InputLocation{"", 0, 0, "--diff-kind"}, "'" + args.diffKind + "' is not one of signed, absolute, relative");
         if (!(args.diffScale >= 0.0) || !std::isfinite(args.diffScale))
             throw InputError(InputLocation{"", 0, 0, "--diff-scale"}, "must be a finite number >= 0 (0: the default)");
-        requireExr(args.reference, "--reference");
-        for (const std::string& path : args.images) requireExr(path, "images");
         if (!args.diff.empty()) checkOutputPath(args.diff);
         if (!args.csv.empty()) checkTextOutputPath(args.csv, "--csv");
         if (!args.json.empty()) checkTextOutputPath(args.json, "--json");
         if (!args.diff.empty() && args.images.size() > 1 && args.diff.find("{name}") == std::string::npos)
             throw InputError(InputLocation{"", 0, 0, "--diff"}, "with several images the path must contain {name}");
 
-        Image reference = readImage(args.reference);
-        double exposure = 0.0;
-        if (args.exposure) exposure = *args.exposure;
-        else if (auto it = reference.metadata.find("exposure"); it != reference.metadata.end()) exposure = std::atof(it->second.c_str());
+        // Every input is read (and checked) before anything is computed or written.
+        const Image reference = readLinearExr(args.reference, "--reference");
+        std::vector<Image> images;
+        for (const std::string& path : args.images)
+            images.push_back(readLinearExr(path, "images"));
+        const double exposure = args.exposure ? *args.exposure : exposureFromMetadata(reference, args.reference);
 
         // One difference scale for every image against this reference: 10 % of the reference's mean luminance by
         // default, never each image's own range.
@@ -293,8 +305,9 @@ int compare(const CompareArgs& args) {
         std::string csv = metricsCsvHeader() + "\n";
         std::printf("%-32s %12s %12s %10s %10s %10s\n", "image", "RMSE", "relMSE", "MAPE %", "PSNR dB", "bias %");
         OutputSet files;  // the difference images, JSON and CSV appear together or not at all
-        for (const std::string& path : args.images) {
-            Image image = readImage(path);
+        for (std::size_t i = 0; i < args.images.size(); ++i) {
+            const std::string& path = args.images[i];
+            const Image& image = images[i];
             Metrics m;
             try {
                 m = computeMetrics(image, reference, exposure, region);

@@ -52,7 +52,7 @@ struct ProbeArgs {
     std::string project;
     std::string view;
     std::string probe;              // a probe of the view's technique, e.g. "distances"
-    std::string pixel;              // "x,y"
+    std::optional<std::string> pixel;  // "x,y"; absent: the image centre
     std::vector<std::string> sets;  // --set path=value
     std::optional<int> spp;
     std::string size;               // "WxH"

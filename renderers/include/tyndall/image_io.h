@@ -22,6 +22,10 @@ std::string encodeImage(const Image& image, const std::string& path, double expo
 // naming the path for a missing or unreadable file.
 Image readImage(const std::string& path);
 
+// An input of metrics (`tyndall compare`, `probe`): an OpenEXR image by name and by content, every value finite. An
+// InputError names the path, `field` (the option that gave it) and what is allowed.
+Image readLinearExr(const std::string& path, const std::string& field);
+
 // Linear -> display: 2^exposure, then the sRGB transfer function, clamped to [0, 1].
 float srgbEncode(float linear);
 float tonemap(float linear, double exposure);
