@@ -164,13 +164,22 @@ void writeImage(const Image& image, const std::string& path, double exposure, To
     writeFileAtomically(path, encodeImage(image, path, exposure, op));
 }
 
-Image readImage(const std::string& path) {
+namespace {
+
+// readImage; with `openExrAs` (the field that named the file) the file must hold an OpenEXR image, whatever its name.
+Image readImageFile(const std::string& path, const std::string* openExrAs) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw readError(path, "no such file");
     if (!fs::is_regular_file(path, ec)) throw readError(path, "not a regular file");
 
     std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
     if (!in) throw readError(path, oiioError(""));
+    if (openExrAs && std::string(in->format_name()) != "openexr") {
+        // By its content too: a PNG renamed .exr is still display values.
+        throw InputError(InputLocation{.file = path, .field = *openExrAs},
+                         "is named .exr but holds a " + std::string(in->format_name()) +
+                             " image; metrics need an OpenEXR image of linear values");
+    }
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.deep) throw readError(path, "deep images are not supported");
     if (spec.depth > 1) throw readError(path, "volume images are not supported");
@@ -218,6 +227,12 @@ Image readImage(const std::string& path) {
     return image;
 }
 
+}  // namespace
+
+Image readImage(const std::string& path) {
+    return readImageFile(path, nullptr);
+}
+
 Image readLinearExr(const std::string& path, const std::string& field) {
     const std::string ext = lowercase(fs::path(path).extension().string());
     if (ext != ".exr") {
@@ -229,17 +244,7 @@ Image readLinearExr(const std::string& path, const std::string& field) {
                                       : ": metrics read the linear RGB and variance channels Tyndall writes to .exr "
                                         "(oiiotool converts other formats)"));
     }
-    std::error_code ec;
-    if (fs::is_regular_file(path, ec)) {
-        // By its content too: a PNG renamed .exr is still display values.
-        std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
-        if (in && std::string(in->format_name()) != "openexr")
-            throw InputError(InputLocation{.file = path, .field = field},
-                             "is named .exr but holds a " + std::string(in->format_name()) +
-                                 " image; metrics need an OpenEXR image of linear values");
-        if (!in) OIIO::geterror();  // readImage below reports it
-    }
-    Image image = readImage(path);
+    Image image = readImageFile(path, &field);
     long long nonFinite = 0;
     int firstX = -1, firstY = -1, firstChannel = -1;
     for (int y = 0; y < image.height(); ++y)

@@ -26,10 +26,15 @@ std::string errnoText(int error) {
     return std::error_code(error, std::generic_category()).message();
 }
 
+// A path as an error names it: a name too long for the file system is clipped.
+std::string shownPath(const std::string& path) {
+    return path.size() > 80 ? path.substr(0, 80) + "..." : path;
+}
+
 [[noreturn]] void fail(const std::string& path, const std::string& step, int error) {
     // A name the file system cannot hold is the caller's mistake (exit 2), not the environment's (exit 1).
     if (error == ENAMETOOLONG)
-        throw InputError(InputLocation{.file = path.substr(0, 80) + (path.size() > 80 ? "..." : "")},
+        throw InputError(InputLocation{.file = shownPath(path)},
                          "cannot save: " + step + ": " + errnoText(error) + " (a path is limited to " +
                              std::to_string(PATH_MAX) + " bytes, each name in it to " + std::to_string(NAME_MAX) + ")");
     throw OutputError("cannot write '" + path + "': " + step + ": " + errnoText(error));
@@ -108,12 +113,10 @@ void OutputSet::stage(const std::string& path, const std::string& bytes) {
     const std::size_t overhead = 1 + std::char_traits<char>::length(kTemporaryInfix) + 7 + 7;
     const std::size_t nameBytes = target.filename().string().size();
     if (nameBytes + overhead > std::size_t(NAME_MAX)) {
-        throw InputError(InputLocation{.file = path.substr(0, 80) + (path.size() > 80 ? "..." : "")},
-                         "cannot save: the file name is " + std::to_string(nameBytes) +
-                             " bytes long; names are limited "
-                             "to " +
-                             std::to_string(NAME_MAX - overhead) + " bytes (" + std::to_string(NAME_MAX) +
-                             " for the folder, less the temporary name's suffix)");
+        throw InputError(InputLocation{.file = shownPath(path)},
+                         "cannot save: the file name is " + std::to_string(nameBytes) + " bytes long; names are " +
+                             "limited to " + std::to_string(NAME_MAX - overhead) + " bytes (" +
+                             std::to_string(NAME_MAX) + " for the folder, less the temporary name's suffix)");
     }
     removeStaleTemporaries(target.string());
     std::string name = (folderOf(target) / ("." + target.filename().string() + kTemporaryInfix +

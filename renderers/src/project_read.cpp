@@ -463,15 +463,14 @@ PointLight readPointLight(const JsonField& f) {
     // The radiometric limit holds for the light's brightest direction: its intensity times the distribution's peak,
     // so that every renderer (in float on the GPU) stays finite.
     const std::vector<double> c = light.distribution.polynomial();
-    Minimum peak{polynomialAt(c, -1.0), -1.0};
-    for (double mu : unitIntervalSamples())
-        if (const double v = polynomialAt(c, mu); v > peak.value) peak = {v, mu};
-    const double brightest = std::max({light.intensity.r, light.intensity.g, light.intensity.b}) * peak.value;
+    const Minimum lowestNegated = minimumOverUnitInterval([&](double mu) { return -polynomialAt(c, mu); });
+    const double peak = -lowestNegated.value;
+    const double brightest = std::max({light.intensity.r, light.intensity.g, light.intensity.b}) * peak;
     if (!(brightest <= kMaxRadiometric)) {
         f["distribution"]["coefficients"].fail(
-            "the light's peak intensity (its intensity times the distribution's largest value, " +
-            formatNumber(peak.value) + " at cos = " + formatNumber(peak.at) + ") must be at most " +
-            formatNumber(kMaxRadiometric) + " W/sr, got " + formatNumber(brightest));
+            "the light's peak intensity (its intensity times the distribution's largest value, " + formatNumber(peak) +
+            " at cos = " + formatNumber(lowestNegated.at) + ") must be at most " + formatNumber(kMaxRadiometric) +
+            " W/sr, got " + formatNumber(brightest));
     }
     return light;
 }

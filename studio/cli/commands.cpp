@@ -209,8 +209,7 @@ int probe(const ProbeArgs& args) {
             if (!(in >> x >> comma >> y) || comma != ',' || (in >> rest))
                 throw InputError(InputLocation{"", 0, 0, "--pixel"},
                                  "'" + args.pixel->substr(0, 60) +
-                                     "' is not x,y, e.g. 120,80 (leave --pixel out for "
-                                     "the image centre)");
+                                     "' is not x,y, e.g. 120,80 (leave --pixel out for the image centre)");
         }
         const ProbeResult r = job.technique->probe(job.request, args.probe, x, y);
         nlohmann::json j;
