@@ -4,9 +4,10 @@
 // number of leading lines "#set PATH=VALUE" (the overrides), then the project's JSON text, so that a bundled project
 // file is itself a seed. InputError is the expected answer to bad input; anything else escaping (a ContractError, a
 // standard exception) is a finding, and so is every sanitizer report.
-#include "tyndall/error.h"
-#include "tyndall/project.h"
-#include "tyndall/render.h"
+#include "tyndall/core/error.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -23,7 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         text = end == std::string::npos ? std::string() : text.substr(end + 1);
     }
     try {
-        const tyndall::Project project = tyndall::parseProject(text, "fuzz.json", overrides);
+        const tyndall::Project project =
+            tyndall::parseProject(tyndall::techniqueCatalogue(), text, "fuzz.json", overrides);
         for (const tyndall::View& view : project.views) {
             try {
                 (void)tyndall::makeViewJob(project, "fuzz.json", view.name);
@@ -31,7 +33,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             }
         }
         // What is read must save and read back.
-        (void)tyndall::parseProject(tyndall::projectToJson(project).dump(), "saved.json", {});
+        (void)tyndall::parseProject(tyndall::techniqueCatalogue(), tyndall::projectToJson(project).dump(), "saved.json",
+                                    {});
     } catch (const tyndall::InputError&) {
     }
     return 0;

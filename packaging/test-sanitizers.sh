@@ -22,7 +22,8 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_CO
       -DCMAKE_C_FLAGS_SANITIZE="-O1 -g1 -DNDEBUG" -DTYNDALL_WARNINGS_AS_ERRORS=ON \
       -DTYNDALL_SANITIZERS=address,undefined -DTYNDALL_BUILD_STUDIO=OFF -DTYNDALL_BUILD_BENCHMARKS=OFF \
       ${CMAKE_CXX_COMPILER_LAUNCHER:+-DCMAKE_CXX_COMPILER_LAUNCHER=$CMAKE_CXX_COMPILER_LAUNCHER}
-cmake --build "$build" -j "$(nproc)" --target tyndall tyndall_renderers_tests tyndall_cli_tests \
+cmake --build "$build" -j "$(nproc)" --target tyndall tyndall_core_tests tyndall_image_tests tyndall_tables_tests \
+      tyndall_project_tests tyndall_shared_tests tyndall_cli_tests \
       tyndall_cli_reliability_tests tyndall_fuzz_project_replay tyndall_fuzz_image_replay tyndall_fuzz_project \
       tyndall_fuzz_image
 
@@ -58,7 +59,11 @@ run_tests() {  # name folder program [arguments]
 status=0
 (
     s=0
-    run_tests renderers renderers/test ./tyndall_renderers_tests || s=1
+    # The renderer library's unit tests, one program per layer (renderers/<layer>/test, shaders/shared/test).
+    for layer in core image tables project; do
+        run_tests "$layer" "renderers/$layer/test" "./tyndall_${layer}_tests" || s=1
+    done
+    run_tests shared shaders/shared/test ./tyndall_shared_tests || s=1
     run_tests reliability tests ./tyndall_cli_reliability_tests || s=1
     exit $s
 ) &

@@ -1,8 +1,9 @@
 // The tyndall CLI end to end, as a user runs it: exit codes (0 ok, 1 failure, 2 bad input), messages and outputs.
-#include "tyndall/image_io.h"
-#include "tyndall/metrics.h"
-#include "tyndall/tonemap.h"
-#include "tyndall/project.h"
+#include "tyndall/image/image_io.h"
+#include "tyndall/image/metrics.h"
+#include "tyndall/image/tonemap.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -86,14 +87,16 @@ TEST(Cli, EveryBundledProjectValidates) {
 TEST(Cli, EveryBundledProjectRoundTripsExactly) {
     fs::path dir = scratch("roundtrip");
     for (const std::string& p : bundledProjects()) {
-        tyndall::Project project = tyndall::loadProject(p);
+        tyndall::Project project = tyndall::loadProject(tyndall::techniqueCatalogue(), p);
         fs::path once = dir / "once.json", twice = dir / "twice.json";
         tyndall::saveProject(project, once.string());
-        tyndall::saveProject(tyndall::loadProject(once.string()), twice.string());
+        tyndall::saveProject(tyndall::loadProject(tyndall::techniqueCatalogue(), once.string()), twice.string());
         std::ifstream a(once), b(twice);
         std::string textA((std::istreambuf_iterator<char>(a)), {}), textB((std::istreambuf_iterator<char>(b)), {});
         EXPECT_EQ(textA, textB) << p;
-        EXPECT_EQ(tyndall::projectHash(project), tyndall::projectHash(tyndall::loadProject(once.string()))) << p;
+        EXPECT_EQ(tyndall::projectHash(project),
+                  tyndall::projectHash(tyndall::loadProject(tyndall::techniqueCatalogue(), once.string())))
+            << p;
     }
 }
 

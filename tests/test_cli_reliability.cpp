@@ -1,10 +1,11 @@
 // Reliability of the tyndall CLI (issue 21): no crash on any input, exit 2 with file and field for bad input, exit 1
 // for environment failures, and outputs that appear completely or not at all. The inputs are files in tests/data/.
-#include "tyndall/image_io.h"
-#include "tyndall/ltsd_table.h"
-#include "tyndall/output.h"
-#include "tyndall/project.h"
-#include "tyndall/scene.h"
+#include "tyndall/core/output.h"
+#include "tyndall/core/scene.h"
+#include "tyndall/image/image_io.h"
+#include "tyndall/project/project.h"
+#include "tyndall/tables/ltsd_table.h"
+#include "tyndall/techniques/registry.h"
 
 #include <gtest/gtest.h>
 
@@ -300,11 +301,12 @@ TEST(Reliability, SavingAProjectThroughASymlinkUpdatesItsTarget) {
     fs::create_directories(dir / "elsewhere");
     fs::rename(project, dir / "elsewhere" / "real.json");
     fs::create_symlink("elsewhere/real.json", dir / "link.json");
-    tyndall::Project loaded = tyndall::loadProject((dir / "link.json").string());
+    tyndall::Project loaded = tyndall::loadProject(tyndall::techniqueCatalogue(), (dir / "link.json").string());
     loaded.name = "saved through the link";
     tyndall::saveProject(loaded, (dir / "link.json").string());
     EXPECT_TRUE(fs::is_symlink(dir / "link.json"));
-    EXPECT_EQ(tyndall::loadProject((dir / "elsewhere" / "real.json").string()).name, "saved through the link");
+    EXPECT_EQ(tyndall::loadProject(tyndall::techniqueCatalogue(), (dir / "elsewhere" / "real.json").string()).name,
+              "saved through the link");
     EXPECT_EQ(filesIn(dir / "elsewhere"), std::vector<std::string>({"real.json"}));
 }
 

@@ -2,9 +2,10 @@
 //   build/renderers/bench/tyndall_convergence projects/default.json [size] [maxSpp]
 // For each view, a render with 16 x maxSpp samples is the converged image; renders with 1, 2, 4, ... maxSpp samples
 // (another seed) are compared with it by relMSE. Reports the first time at which relMSE <= 1e-3.
-#include "tyndall/metrics.h"
-#include "tyndall/project.h"
-#include "tyndall/render.h"
+#include "tyndall/image/metrics.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -20,7 +21,9 @@ int main(int argc, char** argv) {
     const int size = argc > 2 ? std::atoi(argv[2]) : 256;
     const int maxSpp = argc > 3 ? std::atoi(argv[3]) : 64;
     try {
-        Project project = loadProject(path, {"camera.width=" + std::to_string(size), "camera.height=" + std::to_string(size)});
+        Project project =
+            loadProject(techniqueCatalogue(), path,
+                        {"camera.width=" + std::to_string(size), "camera.height=" + std::to_string(size)});
         std::printf("view,spp,seconds,relMSE\n");
         for (const View& view : project.views) {
             JobOptions converged;

@@ -2,7 +2,7 @@
 //   build/renderers/bench/tyndall_denoise_bench
 // Variants: all three guides and a given variance; no variance (estimated locally from the image); and the ratio of
 // Eq. 22-23 (numerator and denominator filtered together, the weight on their ratio) with all guides.
-#include "tyndall/denoise.h"
+#include "tyndall/image/denoise.h"
 
 #include <benchmark/benchmark.h>
 

@@ -7,12 +7,13 @@
 // - e^z E_n(z) of shared/expint.h (Pegoraro's closed form) per invocation, in float and double: order n alone
 //   (orders:0), orders 1..n through expintEnScaledAll's array (orders:1) or streamed from the recurrence pivot without
 //   an array (orders:2); GPU time per invocation (the CPU side is in expint_bench.cpp).
-#include "tyndall/geometry.h"
+#include "tyndall/core/geometry.h"
 #include "tyndall/gpu/bvh.h"
 #include "tyndall/gpu/harness.h"
-#include "tyndall/project.h"
 #include "tyndall/gpu/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
 
 #include <benchmark/benchmark.h>
 
@@ -80,7 +81,7 @@ const ShadowRays& shadowRays() {
     static ShadowRays r = [] {
         ShadowRays out;
         const std::string dir = std::string(TYNDALL_SOURCE_DIR) + "/projects";
-        tyndall::Project project = tyndall::loadProject(dir + "/default.json");
+        tyndall::Project project = tyndall::loadProject(tyndall::techniqueCatalogue(), dir + "/default.json");
         for (const tyndall::Mesh& mesh : project.scene.meshes) out.meshes.push_back(tyndall::buildMesh(mesh, dir));
         out.bvh = tyndall::gpu::buildBvh(out.meshes);
         std::mt19937 rng(5);

@@ -12,8 +12,9 @@
 // - BM_IsvPcf/radius: 0 (off), 2 (5 x 5), 4 (9 x 9)
 // - BM_IsvFading/on: extinction fading off (0) or on (1), 1 Simpson step
 // - BM_IsvCpu/count: wall time of the CPU model (every core), Simpson 2 steps
-#include "tyndall/project.h"
-#include "tyndall/render.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <benchmark/benchmark.h>
 
@@ -32,7 +33,7 @@ RenderJob frameJob(std::vector<std::string> parameters, int count = 5000, const 
                                           "views[isv].parameters.device=" + device};
     for (const std::string& p : parameters)
         overrides.push_back("views[isv].parameters." + p);
-    const Project project = loadProject(kProject, overrides);
+    const Project project = loadProject(techniqueCatalogue(), kProject, overrides);
     return makeViewJob(project, kProject, "isv", {});
 }
 

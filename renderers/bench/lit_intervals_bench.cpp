@@ -3,9 +3,10 @@
 // its point light "lamp". For scale, one shadow ray (bvhOccluded) from the lamp to a random point of the same rays.
 //   build/renderers/bench/tyndall_lit_intervals_bench
 #include "shared/lit_intervals.h"
-#include "tyndall/geometry.h"
+#include "tyndall/core/geometry.h"
 #include "tyndall/gpu/bvh.h"
-#include "tyndall/project.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
 
 #include <benchmark/benchmark.h>
 
@@ -30,7 +31,7 @@ const CameraRays& cameraRays() {
     static CameraRays r = [] {
         CameraRays out;
         const std::string dir = std::string(TYNDALL_SOURCE_DIR) + "/projects";
-        tyndall::Project project = tyndall::loadProject(dir + "/default.json");
+        tyndall::Project project = tyndall::loadProject(tyndall::techniqueCatalogue(), dir + "/default.json");
         std::vector<tyndall::TriangleMesh> meshes;
         for (const tyndall::Mesh& mesh : project.scene.meshes)
             meshes.push_back(tyndall::buildMesh(mesh, dir));

@@ -8,8 +8,9 @@
 // - BM_LtsdGpuRatio1/denoised: N = 8, one light, one ratio sample per pixel for the shadows (GPU time; the denoiser
 //   runs on the CPU and is not in it).
 // Every case but BM_LtsdGpuRatio1 is unshadowed (shadows = off).
-#include "tyndall/project.h"
-#include "tyndall/render.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <benchmark/benchmark.h>
 
@@ -40,7 +41,7 @@ RenderJob frameJob(int nodes, int lights, const std::string& device, const std::
         overrides.push_back(R"(lights[+]={"name": "panel 4", "type": "area", "radiance": [5, 5, 5],
             "vertices": [[-1.2, 2.9, 0.2], [-0.6, 2.9, 0.2], [-0.6, 2.9, 0.8], [-1.2, 2.9, 0.8]]})");
     }
-    const Project project = loadProject(kProject, overrides);
+    const Project project = loadProject(techniqueCatalogue(), kProject, overrides);
     return makeViewJob(project, kProject, "ltsd", {});
 }
 

@@ -15,8 +15,9 @@
 #include "pegoraro/coefficients.h"
 #include "pegoraro/test/closed_form_cases.h"
 
+#include "tyndall/framework/technique.h"
 #include "tyndall/gpu/context.h"
-#include "tyndall/technique.h"
+#include "tyndall/techniques/registry.h"
 
 #include <benchmark/benchmark.h>
 

@@ -4,7 +4,8 @@
 // query (occlusion plus exact transmittance through the media) is reported beside it.
 #include "reference/integrator.h"
 
-#include "tyndall/project.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
 
 #include <benchmark/benchmark.h>
 
@@ -24,7 +25,7 @@ struct ShadowRays {
 const ShadowRays& shadowRays() {
     static ShadowRays rays = [] {
         ShadowRays r;
-        Project project = loadProject(std::string(TYNDALL_SOURCE_DIR) + "/projects/default.json");
+        Project project = loadProject(techniqueCatalogue(), std::string(TYNDALL_SOURCE_DIR) + "/projects/default.json");
         r.scene = reference::prepareScene(project.scene, std::string(TYNDALL_SOURCE_DIR) + "/projects");
         std::mt19937 rng(1);
         std::uniform_real_distribution<float> u(0.0f, 1.0f);

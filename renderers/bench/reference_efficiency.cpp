@@ -12,10 +12,11 @@
 // converged image's own noise (its variance channels: E[err^2] = MSE + var_ref), so that a good estimator is not
 // floored by the reference. From the series, by log-log interpolation (extrapolation past the ends is marked):
 // the CPU time to relMSE 1e-3 and the RMSE at SECONDS CPU seconds, and the ratio of each variant to the first.
-#include "tyndall/image_io.h"
-#include "tyndall/metrics.h"
-#include "tyndall/project.h"
-#include "tyndall/render.h"
+#include "tyndall/image/image_io.h"
+#include "tyndall/image/metrics.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <cmath>
 #include <cstdio>
@@ -108,7 +109,8 @@ int main(int argc, char** argv) {
         for (const char* sceneName : kScenes) {
             const std::string path = std::string(TYNDALL_SOURCE_DIR) + "/projects/bench/" + sceneName + ".json";
             const Project project =
-                loadProject(path, {"camera.width=" + std::to_string(size), "camera.height=" + std::to_string(size)});
+                loadProject(techniqueCatalogue(), path,
+                            {"camera.width=" + std::to_string(size), "camera.height=" + std::to_string(size)});
             const std::string view = project.views.front().name;
 
             // The converged image, once.

@@ -6,8 +6,9 @@
 //   render compiles the pipeline and is not timed.
 // - BM_VolumeRisCpu/M/sampling: wall time of the CPU path (every core).
 // docs/volume-ris.md, Measured, has the numbers.
-#include "tyndall/project.h"
-#include "tyndall/render.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <benchmark/benchmark.h>
 
@@ -25,7 +26,7 @@ RenderJob frameJob(int candidates, bool area, const std::string& device) {
         "camera.width=512", "camera.height=512", "views[shaft].parameters.device=" + device,
         "views[shaft].parameters.candidates=" + std::to_string(candidates),
         std::string("views[shaft].parameters.lightSampling=") + (area ? "area" : "solidAngle")};
-    const Project project = loadProject(kProject, overrides);
+    const Project project = loadProject(techniqueCatalogue(), kProject, overrides);
     JobOptions options;
     options.spp = 1;
     return makeViewJob(project, kProject, "shaft", options);

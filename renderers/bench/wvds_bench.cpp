@@ -8,8 +8,9 @@
 //   the technique's own pass as the paper times it (Sec. 7). Target on lavapipe: analytic <= 10 ms. (docs/wvds.md,
 //   Measured, has the numbers and what the full frame adds.)
 // - BM_WvdsCpu/estimator: wall time of the CPU path (every core).
-#include "tyndall/project.h"
-#include "tyndall/render.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <benchmark/benchmark.h>
 
@@ -28,7 +29,7 @@ RenderJob frameJob(const std::string& estimator, const std::string& device, bool
                                           "views[mcwvds].parameters.device=" + device,
                                           "views[mcwvds].parameters.estimator=" + estimator};
     if (!meshes) overrides.push_back("meshes=[]");
-    const Project project = loadProject(kProject, overrides);
+    const Project project = loadProject(techniqueCatalogue(), kProject, overrides);
     JobOptions options;
     options.spp = 1;
     return makeViewJob(project, kProject, "mcwvds", options);

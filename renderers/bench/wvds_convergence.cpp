@@ -4,9 +4,10 @@
 //   build/renderers/bench/tyndall_wvds_convergence [WIDTH HEIGHT [CONVERGED_SPP]]     (default 256 192 8192)
 // The converged image is MCWVDS at CONVERGED_SPP with a seed none of the runs use; PSNR uses the views' exposure, as
 // `tyndall compare` does. Prints a table and a CSV (estimator,spp,seconds,psnr,relMSE).
-#include "tyndall/metrics.h"
-#include "tyndall/project.h"
-#include "tyndall/render.h"
+#include "tyndall/image/metrics.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <chrono>
 #include <cstdio>
@@ -28,7 +29,7 @@ int main(int argc, char** argv) {
                                           "camera.height=" + std::to_string(height)};
     for (const char* e : estimators)
         overrides.push_back(std::string("views[") + e + "].parameters.device=cpu");
-    const Project project = loadProject(kProject, overrides);
+    const Project project = loadProject(techniqueCatalogue(), kProject, overrides);
     const double exposure = -1.0;
 
     auto render = [&](const std::string& view, int spp, std::uint64_t seed, double& seconds) {

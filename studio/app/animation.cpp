@@ -1,7 +1,7 @@
 #include "animation.h"
 
 #include "shared/camera.h"
-#include "tyndall/shader_params.h"
+#include "tyndall/framework/shader_params.h"
 
 #include <nlohmann/json.hpp>
 

@@ -6,7 +6,7 @@
 
 #include "session.h"
 
-#include "tyndall/scene.h"
+#include "tyndall/core/scene.h"
 
 #include <QElapsedTimer>
 #include <QObject>

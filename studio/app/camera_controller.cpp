@@ -1,6 +1,6 @@
 #include "camera_controller.h"
 
-#include "tyndall/geometry.h"
+#include "tyndall/core/geometry.h"
 
 #include <QFileInfo>
 

@@ -1,6 +1,6 @@
 #include "comparison_model.h"
 
-#include "tyndall/metrics.h"
+#include "tyndall/image/metrics.h"
 
 #include <QMetaObject>
 

@@ -1,6 +1,7 @@
 #include "compositor.h"
 
-#include "tyndall/image_io.h"
+#include "tyndall/image/colour_map.h"
+#include "tyndall/image/image_io.h"
 
 #include <QFontMetrics>
 #include <QPainter>

@@ -4,9 +4,9 @@
 // spp and error metrics. Pure functions of their inputs, so that tests can check what a frame shows.
 #pragma once
 
-#include "tyndall/image.h"
-#include "tyndall/metrics.h"
-#include "tyndall/tonemap.h"
+#include "tyndall/image/image.h"
+#include "tyndall/image/metrics.h"
+#include "tyndall/image/tonemap.h"
 
 #include <QFont>
 #include <QImage>

@@ -2,8 +2,8 @@
 
 #include "plots.h"
 
-#include "tyndall/image_io.h"
-#include "tyndall/metrics.h"
+#include "tyndall/image/image_io.h"
+#include "tyndall/image/metrics.h"
 
 #include <QDir>
 #include <QPointer>

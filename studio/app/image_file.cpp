@@ -1,7 +1,7 @@
 #include "image_file.h"
 
-#include "tyndall/error.h"
-#include "tyndall/image_io.h"
+#include "tyndall/core/error.h"
+#include "tyndall/image/image_io.h"
 
 #include <QFileInfo>
 

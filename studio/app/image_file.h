@@ -5,7 +5,7 @@
 // alpha are dropped.
 #pragma once
 
-#include "tyndall/image.h"
+#include "tyndall/image/image.h"
 
 #include <QString>
 

@@ -11,7 +11,8 @@
 #include "image_file.h"
 #include "main_window.h"
 
-#include "tyndall/project.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
 
 #include <QApplication>
 #include <QFileInfo>
@@ -64,7 +65,7 @@ int main(int argc, char** argv) {
     }
     if (!interactive) {
         try {
-            (void)tyndall::loadProject(project.toStdString(), overrides);
+            (void)tyndall::loadProject(tyndall::techniqueCatalogue(), project.toStdString(), overrides);
         } catch (const std::exception& e) {
             std::fprintf(stderr, "tyndall-studio: error: %s\n", e.what());
             return 2;

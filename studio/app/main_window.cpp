@@ -2,10 +2,11 @@
 #include "trace.h"
 #include "image_file.h"
 
-#include "tyndall/geometry.h"
-#include "tyndall/image_io.h"
-#include "tyndall/phase_eval.h"
-#include "tyndall/render.h"
+#include "tyndall/core/geometry.h"
+#include "tyndall/core/phase_eval.h"
+#include "tyndall/image/image_io.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <QAction>
 #include <QActionGroup>
@@ -1071,7 +1072,7 @@ void MainWindow::updatePhasePlots() {
     std::vector<std::string> own;
     if (state_.current >= 0 && state_.current < int(project.views.size())) {
         try {
-            own = resolvePart(project, project.views[std::size_t(state_.current)]).media;
+            own = resolvePart(techniqueCatalogue(), project, project.views[std::size_t(state_.current)]).media;
         } catch (const std::exception&) {
         }
     }
@@ -1262,7 +1263,7 @@ bool MainWindow::particlePointAt(QPointF position, int& medium, Vec3& point) con
     const Project& project = session_.project();
     std::vector<std::string> own;
     try {
-        own = resolvePart(project, project.views[std::size_t(view)]).media;
+        own = resolvePart(techniqueCatalogue(), project, project.views[std::size_t(view)]).media;
     } catch (const std::exception&) {
     }
     const std::vector<ParticleMedium>& media = project.scene.particleMedia;

@@ -1,6 +1,7 @@
 #include "parameter_panel.h"
 
-#include "tyndall/render.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <QCheckBox>
 #include <QComboBox>
@@ -185,7 +186,7 @@ void ParameterPanel::rebuild() {
         auto show = [checks](const View& v, const Project& p) {
             ScenePart part;
             try {
-                part = resolvePart(p, v);
+                part = resolvePart(techniqueCatalogue(), p, v);
             } catch (const std::exception&) {
             }
             for (const auto& [check, light] : checks) {

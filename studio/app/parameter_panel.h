@@ -8,7 +8,7 @@
 
 #include "session.h"
 
-#include "tyndall/params.h"
+#include "tyndall/core/params.h"
 
 #include <QWidget>
 

@@ -11,9 +11,9 @@
 //   LtsdErrorPlot    the fit's error against g, the medium's g marked.
 #pragma once
 
-#include "tyndall/ltsd_table.h"
-#include "tyndall/scene.h"
-#include "tyndall/technique.h"
+#include "tyndall/core/scene.h"
+#include "tyndall/framework/technique.h"
+#include "tyndall/tables/ltsd_table.h"
 
 #include <QString>
 #include <QWidget>

@@ -3,7 +3,8 @@
 #include "trace.h"
 
 #include "tyndall/gpu/context.h"
-#include "tyndall/image_io.h"
+#include "tyndall/image/image_io.h"
+#include "tyndall/techniques/registry.h"
 
 #include <QCryptographicHash>
 #include <QDir>
@@ -27,7 +28,7 @@ constexpr int kDebounceMs = 300;
 std::string partKeyOf(const nlohmann::json& j, const Project& project, const View& view) {
     ScenePart part;
     try {
-        part = resolvePart(project, view);
+        part = resolvePart(techniqueCatalogue(), project, view);
     } catch (const std::exception&) {
         return j.dump();
     }

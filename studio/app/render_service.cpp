@@ -2,7 +2,7 @@
 
 #include "trace.h"
 
-#include "tyndall/error.h"
+#include "tyndall/core/error.h"
 #include "tyndall/gpu/context.h"
 
 #include <QMetaObject>

@@ -12,7 +12,7 @@
 // CPU, so a second worker would only halve the speed of both: it is off (the tests turn it on to check it).
 #pragma once
 
-#include "tyndall/render.h"
+#include "tyndall/techniques/render.h"
 
 #include <QObject>
 #include <QString>

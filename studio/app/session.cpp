@@ -1,7 +1,8 @@
 #include "session.h"
 
-#include "tyndall/error.h"
-#include "tyndall/render.h"
+#include "tyndall/core/error.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <QUndoCommand>
 
@@ -89,14 +90,14 @@ bool Session::open(const QString& path, QString* error, const std::vector<std::s
     try {
         const std::string file = path.toStdString();
         const std::string text = readProjectText(file);
-        Project loaded = parseProject(text, file, overrides);
+        Project loaded = parseProject(techniqueCatalogue(), text, file, overrides);
         // A save compares against the file as it loads without the overrides, so that they are saved as edits of it,
         // in as few lines as other edits. A file that is valid only with its overrides has no such project: without
         // its text, it is saved whole.
         ProjectFile original{.path = file, .text = text, .project = loaded};
         if (!overrides.empty()) {
             try {
-                original.project = parseProject(text, file);
+                original.project = parseProject(techniqueCatalogue(), text, file);
             } catch (const InputError&) {
                 original.text.clear();
             }
@@ -121,7 +122,7 @@ bool Session::save(QString* error) {
 
 bool Session::saveAs(const QString& path, QString* error) {
     try {
-        file_ = saveProject(project_, path.toStdString(), file_);
+        file_ = saveProject(techniqueCatalogue(), project_, path.toStdString(), file_);
         path_ = path;
         undo_.setClean();
         return true;
@@ -147,7 +148,7 @@ void Session::setExposure(int view, double exposure) {
 bool Session::editScene(const std::vector<std::string>& overrides, const QString& text, QString* error, int mergeId) {
     try {
         const nlohmann::json before = projectToJson(project_);
-        const Project edited = parseProject(before.dump(), path_.toStdString(), overrides);
+        const Project edited = parseProject(techniqueCatalogue(), before.dump(), path_.toStdString(), overrides);
         const nlohmann::json after = projectToJson(edited);
         if (after == before) return true;
         undo_.push(new EditSceneCommand(*this, before, after, text, mergeId));
@@ -163,7 +164,7 @@ bool Session::editViews(const std::function<void(nlohmann::json& views)>& edit, 
         const nlohmann::json before = projectToJson(project_);
         nlohmann::json after = before;
         edit(after["views"]);
-        const Project edited = projectFromJson(after, path_.toStdString());
+        const Project edited = projectFromJson(techniqueCatalogue(), after, path_.toStdString());
         for (const View& v : edited.views)  // each view must render: its technique supports its part
             makeViewJob(edited, path_.toStdString(), v.name);
         undo_.push(new EditSceneCommand(*this, before, projectToJson(edited), text, -1));
@@ -236,12 +237,12 @@ bool Session::setViewPart(int view, const ScenePart& part, QString* error) {
 }
 
 void Session::editProjectJson(const nlohmann::json& json, const QString& text) {
-    projectFromJson(json, path_.toStdString());  // throws before anything changes
+    projectFromJson(techniqueCatalogue(), json, path_.toStdString());  // throws before anything changes
     undo_.push(new EditSceneCommand(*this, projectToJson(project_), json, text, -1));
 }
 
 void Session::applyProjectJson(const nlohmann::json& json) {
-    project_ = projectFromJson(json, path_.toStdString());
+    project_ = projectFromJson(techniqueCatalogue(), json, path_.toStdString());
     emit sceneChanged();
 }
 

@@ -3,7 +3,7 @@
 // where values did not change (saveProject against the file as last read or saved).
 #pragma once
 
-#include "tyndall/project.h"
+#include "tyndall/project/project.h"
 
 #include <QObject>
 #include <QString>

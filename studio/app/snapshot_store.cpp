@@ -1,8 +1,8 @@
 #include "snapshot_store.h"
 
-#include "tyndall/error.h"
-#include "tyndall/image_io.h"
-#include "tyndall/output.h"
+#include "tyndall/core/error.h"
+#include "tyndall/core/output.h"
+#include "tyndall/image/image_io.h"
 
 #include <QDir>
 #include <QFile>

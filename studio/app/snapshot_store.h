@@ -6,7 +6,7 @@
 
 #include "session.h"
 
-#include "tyndall/image.h"
+#include "tyndall/image/image.h"
 
 #include <nlohmann/json.hpp>
 

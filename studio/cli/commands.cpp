@@ -2,13 +2,15 @@
 
 #include "progress.h"
 
-#include "tyndall/error.h"
+#include "tyndall/core/error.h"
+#include "tyndall/core/output.h"
+#include "tyndall/core/text.h"
 #include "tyndall/gpu/context.h"
-#include "tyndall/image_io.h"
-#include "tyndall/metrics.h"
-#include "tyndall/output.h"
-#include "tyndall/project.h"
-#include "tyndall/render.h"
+#include "tyndall/image/image_io.h"
+#include "tyndall/image/metrics.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
 
 #include <nlohmann/json.hpp>
 #include <tbb/info.h>
@@ -130,12 +132,6 @@ void warnLeftOut(const RenderJob& job, const std::string& prefix) {
     for (const std::string& line : job.leftOut) std::fprintf(stderr, "%s  %s\n", prefix.c_str(), line.c_str());
 }
 
-std::string formatNumber(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
-
 }  // namespace
 
 int render(const RenderArgs& args) {
@@ -157,7 +153,7 @@ int render(const RenderArgs& args) {
         }
         for (const std::string& out : outs) checkOutputPath(out);
 
-        Project project = loadProject(args.project, sets);
+        Project project = loadProject(techniqueCatalogue(), args.project, sets);
         JobOptions options;
         options.spp = args.spp;
         options.timeLimit = args.time;
@@ -196,7 +192,7 @@ int probe(const ProbeArgs& args) {
         if (!args.size.empty()) addSizeOverrides(args.size, sets);
         if (args.spp && *args.spp < 1)
             throw InputError(InputLocation{"", 0, 0, "--spp"}, "must be at least 1, got " + std::to_string(*args.spp));
-        Project project = loadProject(args.project, sets);
+        Project project = loadProject(techniqueCatalogue(), args.project, sets);
         JobOptions options;
         options.spp = args.spp;
         options.seed = args.seed;
@@ -221,7 +217,7 @@ int probe(const ProbeArgs& args) {
         for (const ProbeSeries& s : r.series) {
             j["series"].push_back({{"label", s.label}, {"x", s.x}, {"y", s.y}});
             for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
-                csv += "\"" + s.label + "\"," + formatNumber(s.x[i]) + "," + formatNumber(s.y[i]) + "\n";
+                csv += "\"" + s.label + "\"," + formatShort(s.x[i]) + "," + formatShort(s.y[i]) + "\n";
         }
         std::printf("%s\n", r.title.c_str());
         for (const ProbeSeries& s : r.series)
@@ -240,7 +236,7 @@ int validate(const ValidateArgs& args) {
     int worst = kOk;
     for (const std::string& path : args.projects) {
         int code = guarded([&] {
-            Project project = loadProject(path, args.sets);
+            Project project = loadProject(techniqueCatalogue(), path, args.sets);
             // Every check a render would make: each view with its technique, and the reference of the whole scene
             // (every view's reference renders a part of it), each prepared as for rendering.
             std::size_t partial = 0;
@@ -314,9 +310,9 @@ int compare(const CompareArgs& args) {
                 throw InputError(InputLocation{path, 0, 0, ""}, e.message() + " (against the reference '" + args.reference + "')");
             }
             std::string name = std::filesystem::path(path).stem().string();
-            std::printf("%-32s %12s %12s %10s %10s %10s\n", name.c_str(), formatNumber(m.rmse).c_str(),
-                        formatNumber(m.relMSE).c_str(), formatNumber(m.mape).c_str(), formatNumber(m.psnr).c_str(),
-                        formatNumber(m.energyBias).c_str());
+            std::printf("%-32s %12s %12s %10s %10s %10s\n", name.c_str(), formatShort(m.rmse).c_str(),
+                        formatShort(m.relMSE).c_str(), formatShort(m.mape).c_str(), formatShort(m.psnr).c_str(),
+                        formatShort(m.energyBias).c_str());
             nlohmann::json entry = metricsToJson(m);
             entry["image"] = path;
             json["images"].push_back(entry);
@@ -329,7 +325,7 @@ int compare(const CompareArgs& args) {
             }
         }
         if (auto noise = computeMetrics(reference, reference, exposure, region).referenceNoiseRelMSE)
-            std::printf("reference noise (relMSE from its variance): %s\n", formatNumber(*noise).c_str());
+            std::printf("reference noise (relMSE from its variance): %s\n", formatShort(*noise).c_str());
         if (!args.json.empty()) files.stage(args.json, json.dump(2) + "\n");
         if (!args.csv.empty()) files.stage(args.csv, csv);
         files.commit();

@@ -2,10 +2,10 @@
 // fit over any spherical polygon (docs/tables.md); `tyndall plot ltsd-polar|ltsd-error`: the studio's LTSD plots' data.
 #include "commands.h"
 
-#include "tyndall/error.h"
-#include "tyndall/ltc_table.h"
-#include "tyndall/ltsd_table.h"
-#include "tyndall/output.h"
+#include "tyndall/core/error.h"
+#include "tyndall/core/output.h"
+#include "tyndall/tables/ltc_table.h"
+#include "tyndall/tables/ltsd_table.h"
 
 #include <nlohmann/json.hpp>
 

@@ -3,9 +3,11 @@
 // and check the files, and refuse a broken project with a dialog while keeping the current one.
 #include "main_window.h"
 
-#include "tyndall/image_io.h"
-#include "tyndall/ltsd_table.h"
-#include "tyndall/phase_eval.h"
+#include "tyndall/core/phase_eval.h"
+#include "tyndall/image/colour_map.h"
+#include "tyndall/image/image_io.h"
+#include "tyndall/tables/ltsd_table.h"
+#include "tyndall/techniques/registry.h"
 
 #include <QApplication>
 #include <QCheckBox>
@@ -897,7 +899,7 @@ private slots:
     // Scheduling: a fast technique's render does not wait behind a slow, progressive one (the path tracer as a view):
     // the slow render steps aside, the fast one finishes first, and the slow one starts again and finishes.
     void fastViewsGoBeforeSlowOnes() {
-        const Project project = loadProject(kDefaultProject.toStdString(), kSmall);
+        const Project project = loadProject(techniqueCatalogue(), kDefaultProject.toStdString(), kSmall);
         JobOptions slowOptions;
         slowOptions.spp = 4096;  // minutes at full speed: it must be interrupted to let the fast view through
         RenderService service;
@@ -933,7 +935,7 @@ private slots:
     // GPU view's render runs beside a CPU one instead of interrupting it: the path tracer's progressive render goes on
     // (its spp never starts again) while the WVDS view, on the GPU, finishes.
     void aGpuViewRendersBesideTheCpu() {
-        Project project = loadProject(kDefaultProject.toStdString(), kSmall);
+        Project project = loadProject(techniqueCatalogue(), kDefaultProject.toStdString(), kSmall);
         project.views[1].parameters["device"] = "gpu";
         JobOptions slowOptions;
         slowOptions.spp = 4096;
@@ -2020,7 +2022,7 @@ private slots:
         const QString path = QString(TYNDALL_TEST_TMP) + "/animated-smoke.json";
         QString error;
         QVERIFY2(window_->saveProjectAs(path, &error), qPrintable(error));
-        const Project loaded = loadProject(path.toStdString());
+        const Project loaded = loadProject(techniqueCatalogue(), path.toStdString());
         const ParticleSimulation& saved = *loaded.scene.particleMedia.at(0).simulation;
         const ParticleSimulation& shown = *smoke().simulation;
         QCOMPARE(saved.steps, shown.steps);

@@ -1,7 +1,7 @@
 #include "tyndall/gpu/bvh.h"
 
-#include "tyndall/error.h"
-#include "tyndall/scene.h"
+#include "tyndall/core/error.h"
+#include "tyndall/core/scene.h"
 
 #include <algorithm>
 #include <array>

@@ -1,6 +1,6 @@
 #include "tyndall/gpu/slicer.h"
 
-#include "tyndall/error.h"
+#include "tyndall/core/error.h"
 
 #include <algorithm>
 #include <chrono>

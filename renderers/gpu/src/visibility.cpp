@@ -2,10 +2,10 @@
 // ray-query backend (acceleration structures and shaders/features/ray_query_visibility.comp.glsl). See visibility.h.
 #include "tyndall/gpu/visibility.h"
 
+#include "tyndall/core/scene.h"
 #include "tyndall/gpu/bvh.h"
 #include "tyndall/gpu/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
-#include "tyndall/scene.h"
 
 #include <algorithm>
 #include <cstring>

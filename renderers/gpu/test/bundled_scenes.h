@@ -2,8 +2,9 @@
 // compare GPU visibility with Embree on real scenes.
 #pragma once
 
-#include "tyndall/geometry.h"
-#include "tyndall/project.h"
+#include "tyndall/core/geometry.h"
+#include "tyndall/project/project.h"
+#include "tyndall/techniques/registry.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -25,7 +26,7 @@ inline std::vector<BundledScene> bundledScenes() {
     std::sort(paths.begin(), paths.end());
     std::vector<BundledScene> scenes;
     for (const auto& path : paths) {
-        Project project = loadProject(path.string());
+        Project project = loadProject(techniqueCatalogue(), path.string());
         BundledScene scene{path.filename().string(), {}};
         for (const Mesh& mesh : project.scene.meshes)
             scene.meshes.push_back(buildMesh(mesh, path.parent_path().string()));

@@ -9,10 +9,10 @@
 
 #include "shared/rng.h"
 #include "shared/sampling.h"
-#include "tyndall/geometry.h"
+#include "tyndall/core/geometry.h"
 #include "tyndall/gpu/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
-#include "tyndall/project.h"
+#include "tyndall/project/project.h"
 
 #include <gtest/gtest.h>
 

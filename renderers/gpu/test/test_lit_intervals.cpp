@@ -9,7 +9,7 @@
 #include "visibility_helpers.h"
 
 #include "shared/rng.h"
-#include "tyndall/geometry.h"
+#include "tyndall/core/geometry.h"
 #include "tyndall/gpu/bvh.h"
 #include "tyndall/gpu/resources.h"
 

@@ -1,6 +1,6 @@
 #include "gpu_test.h"
 
-#include "tyndall/error.h"
+#include "tyndall/core/error.h"
 #include "tyndall/gpu/resources.h"
 #include "tyndall/gpu/slicer.h"
 

@@ -7,10 +7,10 @@
 #include "gpu_test.h"
 #include "visibility_helpers.h"
 
-#include "tyndall/geometry.h"
+#include "tyndall/core/geometry.h"
 #include "tyndall/gpu/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
-#include "tyndall/project.h"
+#include "tyndall/project/project.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // scene's bounds.
 #pragma once
 
-#include "tyndall/geometry.h"
+#include "tyndall/core/geometry.h"
 
 #include "shared/bvh.h"
 #include "shared/rng.h"

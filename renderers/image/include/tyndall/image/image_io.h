@@ -1,0 +1,36 @@
+// Reading and writing images through OpenImageIO: EXR (all float channels and the metadata) and PNG (exposure, then
+// sRGB encoding, clamped to [0, 1]).
+#pragma once
+
+#include "tyndall/image/image.h"
+#include "tyndall/image/tonemap.h"
+
+#include <string>
+
+namespace tyndall {
+
+// Writes by extension (.exr or .png), all or nothing (writeFileAtomically, output.h). Throws InputError naming the path
+// for what the caller asked wrongly (extension, missing folder, a PNG without R, G, B), OutputError when the
+// environment refuses (disk full, read-only folder).
+// PNG: RGB only, multiplied by 2^exposure, through the display transform `op` (tonemap.h), 8 bits.
+void writeImage(const Image& image, const std::string& path, double exposure = 0.0, Tonemap op = Tonemap::Srgb);
+// The bytes of the file writeImage would write, the format chosen by `path`'s extension; for OutputSet::stage when
+// several outputs must appear together.
+std::string encodeImage(const Image& image, const std::string& path, double exposure = 0.0, Tonemap op = Tonemap::Srgb);
+
+// Reads an EXR (every channel, every string metadata attribute) or any format OIIO reads (as float). Throws InputError
+// naming the path for a missing or unreadable file.
+Image readImage(const std::string& path);
+
+// An input of metrics (`tyndall compare`, `probe`): an OpenEXR image by name and by content, every value finite. An
+// InputError names the path, `field` (the option that gave it) and what is allowed.
+Image readLinearExr(const std::string& path, const std::string& field);
+
+// Linear -> display: 2^exposure, then the sRGB transfer function, clamped to [0, 1].
+float srgbEncode(float linear);
+float tonemap(float linear, double exposure);
+
+// Display -> linear: the inverse of srgbEncode on [0, 1] (used to store colour maps given as sRGB values).
+float srgbDecode(float encoded);
+
+}  // namespace tyndall

@@ -1,0 +1,196 @@
+#include "isv/isv.h"
+
+#include "isv/gpu_renderer.h"
+#include "isv/prepared.h"
+
+#include "tyndall/core/error.h"
+#include "tyndall/core/text.h"
+#include "tyndall/gpu/context.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace tyndall {
+
+IsvTechnique::IsvTechnique() = default;
+IsvTechnique::~IsvTechnique() = default;
+
+std::vector<ParamInfo> IsvTechnique::parameters() const {
+    std::vector<ParamInfo> p;
+    p.push_back(deviceParameter(
+        "Where it runs: Vulkan graphics pipelines or the CPU model of the same passes; auto takes the GPU"));
+    p.push_back({"proxies",
+                 ParamType::Enum,
+                 "What builds the interval-shading proxies on the GPU (Sec. 2.3): mesh (a mesh shader, as Tricard and "
+                 "the thesis; needs VK_EXT_mesh_shader), geometry (a geometry shader, runs everywhere); auto: mesh "
+                 "where the device has it. Both draw the same triangles",
+                 "",
+                 0,
+                 0,
+                 std::string("auto"),
+                 {"auto", "geometry", "mesh"}});
+    p.push_back({"integration",
+                 ParamType::Enum,
+                 "C_scat over a fragment's interval (thesis Sec. 3.7-3.11): analytic (constant extinction, closed "
+                 "form), taylor (four Taylor terms about the midpoint), simpson (Simpson's rule with `steps` steps), "
+                 "wasted-pixels (red: fragments below the threshold, green: shaded)",
+                 "",
+                 0,
+                 0,
+                 std::string("simpson"),
+                 isv::integrationNames()});
+    p.push_back({"steps", ParamType::Int, "Simpson's rule steps per fragment (Sec. 3.10)", "", 1, 10, std::int64_t(1)});
+    p.push_back({"fading", ParamType::Bool,
+                 "Extinction fading: the Gaussian falloff of Eq. 9 (off: constant extinction in each tetrahedron, "
+                 "edges visible)",
+                 "", 0, 1, true});
+    p.push_back({"threshold", ParamType::Float,
+                 "Early out (Sec. 3.11): fragments whose optical thickness is below it are skipped", "", 0.0, 1.0,
+                 1e-3, {}, true});
+    p.push_back({"multiScatter", ParamType::Float,
+                 "m of Eq. 11: the crude multiple-scattering term (0: single scattering, as the reference)", "", 0.0,
+                 1.0, 0.0});
+    p.push_back({"selfShadowing", ParamType::Bool, "The volumetric shadow map (Sec. 3.4): the medium shadows itself",
+                 "", 0, 1, true});
+    p.push_back({"vsmResolution", ParamType::Int, "Volumetric shadow map texels per side", "", 8, 1024,
+                 std::int64_t(128), {}, true});
+    p.push_back({"vsmSlices", ParamType::Int, "Volumetric shadow map depth slices", "", 2, 64, std::int64_t(16)});
+    p.push_back({"opaqueShadows", ParamType::Bool,
+                 "The opaque shadow map: surfaces shadow the medium and each other (Sec. 3.6)", "", 0, 1, true});
+    p.push_back({"shadowMapResolution", ParamType::Int, "Opaque shadow map texels per side", "", 16, 4096,
+                 std::int64_t(1024), {}, true});
+    p.push_back({"pcfRadius", ParamType::Int,
+                 "Soft shadows: percentage-closer filtering over (2r + 1)^2 shadow-map texels (0: off)", "", 0, 8,
+                 std::int64_t(0)});
+    p.push_back({"supersampling", ParamType::Int, "S x S fragments per pixel, box filtered", "", 1, 8,
+                 std::int64_t(1)});
+    p.push_back({"nearPlane", ParamType::Float,
+                 "Tetrahedra reaching closer to the camera than this are culled (thesis Sec. 2.3.4)", "m", 1e-4, 10.0,
+                 0.05, {}, true});
+    return p;
+}
+
+Support IsvTechnique::supports(const HomogeneousMedium& medium) const {
+    return Support::no("the medium '" + medium.name +
+                       "' is homogeneous; ISV renders particle media (LTSD, WVDS and Pegoraro render homogeneous ones)");
+}
+
+Support IsvTechnique::supports(const ParticleMedium&) const {
+    return Support::yes();  // a chromatic extinction too: coloured shadows (beyond the thesis, whose are grey)
+}
+
+Support IsvTechnique::supports(const PointLight&) const {
+    return Support::yes();  // with a perspective volumetric shadow map (beyond the thesis, its future work)
+}
+
+Support IsvTechnique::supports(const DirectionalLight& light) const {
+    if (!light.gobo.empty())
+        return Support::no("the directional light '" + light.name +
+                           "' has a gobo; ISV's shadow maps cover the whole beam (remove the gobo or render it with "
+                           "WVDS)");
+    return Support::yes();
+}
+
+Support IsvTechnique::supports(const AreaLight& light) const {
+    return Support::no("the area light '" + light.name +
+                       "' is not a directional light or a point light; ISV's shadow maps are seen from one point or "
+                       "direction (LTSD and Volume-RIS render area lights)");
+}
+
+Support IsvTechnique::supports(const Material&) const {
+    return Support::yes();
+}
+
+void IsvTechnique::check(const RenderRequest& request) const {
+    requireSupported(request.scene);
+    (void)isv::prepareScene(request.scene, isv::settingsFrom(request.params), request.projectDir);
+}
+
+RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    requireSupported(request.scene);
+    const isv::Settings settings = isv::settingsFrom(request.params);
+    const isv::PreparedScene scene = isv::prepareScene(request.scene, settings, request.projectDir);
+    const int width = request.scene.camera.width, height = request.scene.camera.height;
+    const int ss = scene.supersampling;
+
+    bool onGpu = runsOnGpu(settings.device, AutoDevice::Gpu);
+    std::string fallback;
+    if (onGpu) {
+        // What the device cannot hold or do (its buffer and image limits, dual-source blending for coloured shadows):
+        // an error under device = gpu, the CPU model under auto.
+        if (const std::optional<InputError> problem = isv::deviceLimitProblem(scene, gpu::sharedContext()->device())) {
+            if (settings.device == Device::Gpu) throw *problem;
+            onGpu = false;
+            fallback = problem->where().field + ": " + problem->message() + " (rendered on the CPU)";
+        }
+    }
+    std::vector<glm::vec4> pixels;
+    std::string deviceName = "cpu";
+    std::string proxies = "none (the CPU model intersects each pixel's ray with the tetrahedra)";
+    isv::GpuTimings timings;
+    if (onGpu) {
+        if (!gpu_) gpu_ = std::make_unique<isv::GpuRenderer>();
+        isv::GpuOutput g = gpu_->render(scene, callbacks, settings.proxies);
+        pixels = std::move(g.pixels);
+        deviceName = g.deviceName;
+        timings = g.timings;
+        proxies = g.meshProxies ? "mesh" : "geometry";
+    } else {
+        const std::atomic<bool>* cancel = callbacks.cancel;
+        std::vector<float> shadow, slabs, vsm;
+        if (scene.shadowMap) shadow = isv::shadowMapCpu(scene, request.threads, cancel);
+        if (callbacks.progress) callbacks.progress(0.1);
+        if (scene.vsm) {
+            slabs = isv::vsmSlabsCpu(scene, request.threads, cancel);
+            vsm = isv::slicesFromSlabs(slabs, scene.frame.vsm);
+        }
+        if (callbacks.progress) callbacks.progress(0.3);
+        const std::vector<glm::vec4> background = isv::surfacesCpu(scene, vsm, shadow, request.threads, cancel);
+        if (callbacks.progress) callbacks.progress(0.5);
+        pixels = isv::compositeCpu(scene, background, vsm, shadow, isv::backToFront(scene), request.threads, cancel);
+    }
+
+    RenderResult result;
+    result.image = Image(width, height, {"R", "G", "B", "transmittance"});
+    std::size_t nonFinite = 0;
+    const float norm = 1.0f / float(ss * ss);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            glm::vec4 sum(0.0f);
+            for (int sy = 0; sy < ss; ++sy)
+                for (int sx = 0; sx < ss; ++sx)
+                    sum += pixels[std::size_t(y * ss + sy) * scene.width + std::size_t(x * ss + sx)];
+            sum *= norm;
+            for (int c = 0; c < 4; ++c) {
+                const bool finite = std::isfinite(sum[c]);
+                if (!finite) ++nonFinite;
+                result.image.at(x, y, c) = finite ? sum[c] : 0.0f;
+            }
+        }
+    if (callbacks.progress) callbacks.progress(1.0);
+    result.spp = 1;
+    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    stampMetadata(result, request);
+    auto& meta = result.image.metadata;
+    meta["device"] = deviceName;
+    meta["nonFiniteSamples"] = std::to_string(nonFinite);
+    meta["isv:particles"] = std::to_string(scene.particles.size());
+    if (!fallback.empty()) meta["isv:fallback"] = fallback;
+    meta["isv:proxies"] = proxies;
+    if (onGpu) {
+        meta["gpu:totalMs"] = formatShort(timings.totalMs);
+        meta["gpu:longestSliceMs"] = formatShort(timings.longestSliceMs);
+        meta["gpu:compileSeconds"] = formatShort(timings.compileSeconds);
+        meta["gpu:shadowMapMs"] = formatShort(timings.shadowMapMs);
+        meta["gpu:vsmMs"] = formatShort(timings.vsmMs);
+        meta["gpu:surfacesMs"] = formatShort(timings.surfacesMs);
+        meta["gpu:sortMs"] = formatShort(timings.sortMs);
+        meta["gpu:particlesMs"] = formatShort(timings.particlesMs);
+    }
+    return result;
+}
+
+}  // namespace tyndall

@@ -1,0 +1,115 @@
+#include "ltsd/gpu_renderer.h"
+
+#include "tyndall/core/error.h"
+#include "tyndall/gpu/shader_compiler.h"
+#include "tyndall/gpu/slicer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <sstream>
+
+namespace tyndall::ltsd {
+
+namespace {
+
+constexpr std::uint32_t kGroupSize = 64;
+
+struct Push {
+    std::uint32_t first;    // first pixel of this dispatch
+    std::uint32_t count;    // pixels in the image
+    std::uint32_t width;
+    std::uint32_t samples;  // the ratio pass: camera samples per pixel
+    std::uint32_t seed;
+};
+
+std::string shaderPath() {
+    return std::string(TYNDALL_SHADER_DIR) + "/ltsd/ltsd.comp.glsl";
+}
+
+}  // namespace
+
+GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
+
+gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, double& compileSeconds) {
+    const shader::LtsdFrame& f = scene.frame;
+    const bool words = context_->device().shaderFloat64;
+    const bool medium = f.hasMedium != 0;
+    const bool surfaces = scene.surfaces.triangleCount > 0;
+    const bool ggx = surfaces && scene.anyGgx;
+    const bool anisotropic = ggx && scene.anyAnisotropic;
+    const std::string key = std::to_string(f.lightCount) + "l-" + std::to_string(f.planeCount) + "p-" +
+                            std::to_string(f.placement) + "-" + std::to_string(f.transmittance) +
+                            (medium ? "" : "-nomedium") + (surfaces ? "" : "-nosurfaces") +
+                            (scene.anyTwoSided ? "-twosided" : "") + (ggx ? "-ggx" : "") +
+                            (anisotropic ? "-aniso" : "") + (words ? "-w" : "") + (ratio ? "-ratio" : "");
+    std::string defines = "#define TY_LTSD_LIGHTS " + std::to_string(f.lightCount) + "\n#define TY_LTSD_PLANES " +
+                          std::to_string(f.planeCount) + "\n#define TY_LTSD_PLACEMENT " +
+                          std::to_string(f.placement) + "\n#define TY_LTSD_TRANSMITTANCE " +
+                          std::to_string(f.transmittance) + "\n";
+    if (!medium) defines += "#define TY_LTSD_NO_MEDIUM\n";
+    if (!surfaces) defines += "#define TY_LTSD_NO_SURFACES\n";
+    if (!scene.anyTwoSided) defines += "#define TY_LTSD_ONE_SIDED\n";
+    if (!ggx) defines += "#define TY_LTSD_NO_GGX\n";
+    if (!anisotropic) defines += "#define TY_LTSD_NO_ANISOTROPIC\n";
+    if (words) defines += "#define TY_BVH_WORDS\n";
+    if (ratio) defines += "#define TY_LTSD_RATIO\n";
+    return kernels_.get(*context_, {shaderPath(), defines, 9, std::uint32_t(sizeof(Push)), "ltsd_" + key},
+                        compileSeconds);
+}
+
+GpuOutput GpuRenderer::render(const PreparedScene& scene, int width, int height, const RenderCallbacks& callbacks) {
+    return run(scene, false, width, height, 0, 0u, callbacks);
+}
+
+GpuOutput GpuRenderer::renderRatio(const PreparedScene& scene, int width, int height, int samples, std::uint32_t seed,
+                                   const RenderCallbacks& callbacks) {
+    return run(scene, true, width, height, samples, seed, callbacks);
+}
+
+GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, int height, int samples,
+                           std::uint32_t seed, const RenderCallbacks& callbacks) {
+    GpuOutput out;
+    gpu::ComputeKernel& k = kernel(scene, ratio, out.compileSeconds);
+    gpu::Context& ctx = *context_;
+    auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
+    auto nodes = upload(scene.surfaces.bvh.nodes);
+    auto triangles = upload(scene.surfaces.bvh.triangles);
+    auto frame = std::make_unique<gpu::Buffer>(ctx, sizeof(shader::LtsdFrame));
+    frame->upload(&scene.frame, sizeof(shader::LtsdFrame));
+    auto lights = upload(scene.lights);
+    auto planes = upload(scene.planes);
+    auto surfaceTriangles = upload(scene.surfaces.triangles);
+    auto materials = upload(scene.surfaces.materials);
+    auto ltcEntries = upload(scene.ltcEntries);
+    const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
+    const std::uint64_t perPixel = ratio ? 4 : 2;
+    gpu::Buffer radiance(ctx, pixels * perPixel * sizeof(glm::vec4));
+    const std::vector<const gpu::Buffer*> bindings{nodes.get(),  triangles.get(),        frame.get(),
+                                                   lights.get(), planes.get(),           surfaceTriangles.get(),
+                                                   materials.get(), &radiance,           ltcEntries.get()};
+    gpu::SliceStats stats;
+    try {
+        stats = gpu::runSliced(
+            ctx, pixels,
+            [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t n) {
+                if (callbacks.progress) callbacks.progress(double(begin) / double(pixels));
+                Push push{std::uint32_t(begin), std::uint32_t(pixels), std::uint32_t(width), std::uint32_t(samples),
+                          seed};
+                k.record(cmd, bindings, &push, std::uint32_t((n + kGroupSize - 1) / kGroupSize));
+                gpu::computeToComputeBarrier(cmd);
+            },
+            callbacks.cancel, 10.0, ratio ? 64 : 1024);
+    } catch (...) {
+        k.resetDescriptors();
+        throw;
+    }
+    k.resetDescriptors();
+    out.values = radiance.download<glm::vec4>(pixels * perPixel);
+    out.deviceName = ctx.device().name;
+    out.longestSliceMs = stats.longestMs;
+    out.gpuMs = stats.totalMs;
+    return out;
+}
+
+}  // namespace tyndall::ltsd

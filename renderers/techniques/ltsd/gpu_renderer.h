@@ -1,0 +1,46 @@
+// The LTSD technique on the GPU: uploads a prepared scene and runs shaders/ltsd/ltsd.comp.glsl, one invocation per
+// pixel, in slices of about 10 ms (tyndall/gpu/slicer.h) so that a render can be cancelled between slices.
+#pragma once
+
+#include "ltsd/prepared.h"
+
+#include "tyndall/framework/kernel_cache.h"
+#include "tyndall/framework/technique.h"
+#include "tyndall/gpu/context.h"
+#include "tyndall/gpu/resources.h"
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace tyndall::ltsd {
+
+struct GpuOutput {
+    std::vector<glm::vec4> values;  // per pixel: A-bar and T L_c-bar (analytic pass), or the four ratio sums
+    std::string deviceName;
+    double longestSliceMs = 0.0;
+    double gpuMs = 0.0;
+    double compileSeconds = 0.0;  // building the pipeline (0 when it was cached)
+};
+
+class GpuRenderer {
+public:
+    GpuRenderer();  // on gpu::sharedContext(); throws GpuError without Vulkan
+
+    // The analytic pass: per pixel A-bar then T L_c-bar. Throws Cancelled, GpuError, ShaderError.
+    GpuOutput render(const PreparedScene& scene, int width, int height, const RenderCallbacks& callbacks);
+    // The ratio estimators' pass: per pixel the sums over `samples` camera samples of the four LtsdRatioTerms.
+    GpuOutput renderRatio(const PreparedScene& scene, int width, int height, int samples, std::uint32_t seed,
+                          const RenderCallbacks& callbacks);
+
+private:
+    gpu::ComputeKernel& kernel(const PreparedScene& scene, bool ratio, double& compileSeconds);
+    GpuOutput run(const PreparedScene& scene, bool ratio, int width, int height, int samples, std::uint32_t seed,
+                  const RenderCallbacks& callbacks);
+
+    std::shared_ptr<gpu::Context> context_;
+    KernelCache kernels_;  // by variant
+};
+
+}  // namespace tyndall::ltsd
