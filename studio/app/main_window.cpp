@@ -850,6 +850,7 @@ void MainWindow::rebuildViews(bool projectOpened) {
         statusBar()->showMessage("Snapshots not loaded: " + error, 10000);
     // Nothing of the previous project stays on screen: the inspector, the pdf plot, the snapshot comparison.
     inspector_->setText("Move the cursor over a view");
+    ++probeGeneration_;  // a probe still running for the previous views is not shown
     pdf_->showMessage("Move the cursor over a view whose technique samples distances (WVDS).");
     {
         const QSignalBlocker block(compareButton_);
@@ -1340,25 +1341,41 @@ void MainWindow::inspect(QPointF position) {
                 "</td></tr>";
     inspector_->setText(html + "</table>");
 
-    // The PDF plot, for a technique that samples distances.
+    // The PDF plot, for a technique that samples distances. Making the job and probing (for WVDS a scene preparation
+    // with a BVH build) run in the background pool, never on the GUI thread; only the latest hover's answer is shown.
+    const std::uint64_t generation = ++probeGeneration_;
     if (model_->isImage(view)) {
         pdf_->showMessage(model_->frames()[std::size_t(view)].name + " is an image from a file: no probe");
         return;
     }
-    const Project& project = session_.project();
-    try {
-        RenderJob job = makeViewJob(project, session_.path().toStdString(), project.views[std::size_t(view)].name);
-        bool hasProbe = false;
-        for (const ProbeInfo& p : job.technique->probes())
-            hasProbe |= p.name == "distances";
-        if (!hasProbe) {
-            pdf_->showMessage(model_->frames()[std::size_t(view)].technique + " has no distance probe");
-            return;
+    background_->run([this, generation, project = session_.project(), path = session_.path().toStdString(),
+                      viewName = session_.project().views[std::size_t(view)].name,
+                      technique = model_->frames()[std::size_t(view)].technique, pixel] {
+        std::optional<ProbeResult> result;
+        QString message;
+        try {
+            RenderJob job = makeViewJob(project, path, viewName);
+            bool hasProbe = false;
+            for (const ProbeInfo& p : job.technique->probes())
+                hasProbe |= p.name == "distances";
+            if (hasProbe)
+                result = job.technique->probe(job.request, "distances", pixel.x(), pixel.y());
+            else
+                message = technique + " has no distance probe";
+        } catch (const std::exception& e) {
+            message = QString::fromStdString(e.what());
         }
-        pdf_->showProbe(job.technique->probe(job.request, "distances", pixel.x(), pixel.y()));
-    } catch (const std::exception& e) {
-        pdf_->showMessage(QString::fromStdString(e.what()));
-    }
+        QMetaObject::invokeMethod(
+            this,
+            [this, generation, result = std::move(result), message] {
+                if (generation != probeGeneration_) return;  // a later hover, or another project, replaced it
+                if (result)
+                    pdf_->showProbe(*result);
+                else
+                    pdf_->showMessage(message);
+            },
+            Qt::QueuedConnection);
+    });
 }
 
 void MainWindow::refreshRecentMenu() {

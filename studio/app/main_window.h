@@ -25,6 +25,7 @@
 #include "composer.h"
 #include "viewport.h"
 
+#include <cstdint>
 #include <functional>
 
 #include <QElapsedTimer>
@@ -113,8 +114,9 @@ public:
 
     // The view and image pixel under a viewport position; false outside every view.
     bool viewAt(QPointF position, int& view, QPoint& pixel) const;
-    // What the cursor at `position` shows: the inspector's values and, for a technique with a "distances" probe, the
-    // PDF plot.
+    // What the cursor at `position` shows: the inspector's values at once and, for a technique with a "distances"
+    // probe, the PDF plot when the probe, run in the background pool, answers (waitForBackgroundWork, then the event
+    // loop).
     void inspect(QPointF position);
     // Camera navigation (camera_controller.h); a refused move says why in the status bar.
     void orbitCamera(double yaw, double pitch);
@@ -223,6 +225,7 @@ private:
     PlotPanel* plots_ = nullptr;
     ConvergencePlot* convergence_ = nullptr;
     PdfPlot* pdf_ = nullptr;
+    std::uint64_t probeGeneration_ = 0;  // the latest Inspector probe; older answers are dropped
     PhasePlot *phasePolar_ = nullptr, *phaseCosine_ = nullptr;
     LtsdPolarPlot* ltsdPolar_ = nullptr;
     LtsdErrorPlot* ltsdError_ = nullptr;

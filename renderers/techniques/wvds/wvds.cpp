@@ -5,6 +5,7 @@
 
 #include "tyndall/core/error.h"
 #include "tyndall/core/text.h"
+#include "tyndall/framework/progressive.h"
 #include "tyndall/framework/row_loop.h"
 #include "tyndall/image/denoise.h"
 #include "tyndall/image/metrics.h"
@@ -271,41 +272,23 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
         acc.assign(layout.size(), glm::vec4(0.0f));
     }
 
-    // Passes of 1, 1, 2, 4, ... camera samples: an image at every power of two, until spp or the time limit.
+    // Passes of 1, 1, 2, 4, ... camera samples until spp or the time limit (framework/progressive.h).
     std::atomic<long> nonFiniteSamples{0};
-    RenderResult result;
     long nonFinitePixels = 0;
-    int done = 0;
-    double secondsPerSample = 0.0;  // of the last pass; bounds a pass by the time that is left
-    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-    while (done < spp) {
-        int passSize = std::min(spp - done, std::max(done, 1));
-        if (request.timeLimit > 0.0 && secondsPerSample > 0.0)
-            passSize = std::clamp(int((request.timeLimit - elapsed()) / secondsPerSample), 1, passSize);
-        const auto passStart = Clock::now();
-        const RenderCallbacks pass{[&](double f) {
-                                       if (callbacks.progress)
-                                           callbacks.progress(
-                                               progressFraction(done + f * passSize, spp, elapsed(), request.timeLimit));
-                                   },
-                                   nullptr, callbacks.cancel};
-        if (onGpu) {
-            gpu_->addSamples(std::uint32_t(done), std::uint32_t(done + passSize), pass);
-        } else {
-            addSamplesCpu(scene, layout, acc, std::uint32_t(done), std::uint32_t(done + passSize), request.threads,
-                          pass, nonFiniteSamples);
-        }
-        done += passSize;
-        secondsPerSample = std::chrono::duration<double>(Clock::now() - passStart).count() / passSize;
-        result.image = resolve(onGpu ? gpu_->readAccumulators() : acc, layout, request.threads, nonFinitePixels,
-                               denoise ? &depth : nullptr);
-        if (callbacks.progress) callbacks.progress(progressFraction(done, spp, elapsed(), request.timeLimit));
-        if (request.timeLimit > 0.0 && elapsed() >= request.timeLimit) break;
-        if (callbacks.intermediate && done < spp) callbacks.intermediate(result.image, done);
-    }
-
-    result.spp = done;
-    result.seconds = elapsed();
+    auto addSamples = [&](std::uint32_t first, std::uint32_t end, const RenderCallbacks& pass) {
+        if (onGpu)
+            gpu_->addSamples(first, end, pass);
+        else
+            addSamplesCpu(scene, layout, acc, first, end, request.threads, pass, nonFiniteSamples);
+    };
+    ProgressiveResult progressive = renderProgressively(request, spp, callbacks, start, addSamples, [&] {
+        return resolve(onGpu ? gpu_->readAccumulators() : acc, layout, request.threads, nonFinitePixels,
+                       denoise ? &depth : nullptr);
+    });
+    RenderResult result;
+    result.image = std::move(progressive.image);
+    result.spp = progressive.spp;
+    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     stampMetadata(result, request);
     auto& meta = result.image.metadata;
     meta["device"] = onGpu ? gpu_->context().device().name : "cpu";
