@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The renderer library's layers include only what is below them (docs/architecture.md, "Layers").
+"""The renderer library's layers include only what is below them (docs/architecture.md, "renderers/: the layers").
 
 Each layer is a folder renderers/<layer>/ whose public headers are include/tyndall/<layer>/. A file of a layer may
 include the headers of the layers it lists below, and no others; a technique's folder (renderers/techniques/<name>/)
