@@ -74,13 +74,13 @@ int main(int argc, char** argv) {
     tyndall::studio::MainWindow window(&vulkan, overrides);
     if (!interactive) {
         // Recovering unsaved changes is a person's decision: report the autosave and leave it for them.
-        const QFileInfo autosave(tyndall::studio::MainWindow::autosavePath(project)), file(project);
+        const QFileInfo autosave(tyndall::studio::Studio::autosavePath(project)), file(project);
         if (autosave.exists() && autosave.lastModified() >= file.lastModified()) {
             fail("an autosave of " + project + " is newer than the file (" + autosave.filePath() +
                  "); open the project interactively to recover or discard it");
             return 1;
         }
-        window.setRecovery(tyndall::studio::MainWindow::Recovery::Never);
+        window.studio().setRecovery(tyndall::studio::Studio::Recovery::Never);
     }
     window.show();
     if (!window.openProject(project, interactive)) {
@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
     }
     for (const QString& image : images) {
         QString error;
-        if (window.openImageView(image, &error) >= 0) continue;
+        if (window.studio().openImageView(image, &error) >= 0) continue;
         fail(error);
         if (!interactive) return 2;
     }
@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
         });
         deadline.start((ok && timeout > 0 ? timeout : 600) * 1000);
         QObject::connect(&poll, &QTimer::timeout, [&] {
-            if (!window.settled()) return;
+            if (!window.studio().settled()) return;
             poll.stop();
             deadline.stop();
             // A moment for the last frame to be presented, then the whole screen (the Vulkan viewport included).

@@ -158,7 +158,7 @@ double longestStallMs(Work&& work) {
 void waitSettled(MainWindow& w, int timeoutMs = 600000) {
     QElapsedTimer t;
     t.start();
-    while (!w.settled() && t.elapsed() < timeoutMs)
+    while (!w.studio().settled() && t.elapsed() < timeoutMs)
         QTest::qWait(5);
 }
 
@@ -195,42 +195,42 @@ int main(int argc, char** argv) {
         if (stallsOnly) break;
         if (option == "--edit" && only != e.view) continue;
         MainWindow window(&vulkan, k512);
-        window.setRecovery(MainWindow::Recovery::Never);
+        window.studio().setRecovery(Studio::Recovery::Never);
         window.show();
         if (!QTest::qWaitForWindowExposed(&window)) return 1;
         if (!window.openProject(root + e.project, false)) return 1;
         waitSettled(window);
         int view = -1;
-        for (int i = 0; i < int(window.session().project().views.size()); ++i)
-            if (window.session().project().views[std::size_t(i)].name == e.view) view = i;
+        for (int i = 0; i < int(window.studio().session().project().views.size()); ++i)
+            if (window.studio().session().project().views[std::size_t(i)].name == e.view) view = i;
         if (view < 0) return 1;
         std::vector<double> first, final;
         bool value = false;
         double stall = 0.0;
         for (int k = 0; k < 5; ++k) {
-            const auto before = window.frames()[std::size_t(view)].image;
+            const auto before = window.studio().frames()[std::size_t(view)].image;
             QElapsedTimer t;
             t.start();
             double firstMs = 0.0;
             stall = std::max(stall, longestStallMs([&] {
-                window.session().setParameter(view, e.parameter, value);
-                while (window.frames()[std::size_t(view)].image == before)
-                    QTest::qWait(1);
-                // The image was composed as it arrived; the next frame the viewport presents shows it.
-                const int presented = window.viewport()->framesPresented();
-                while (window.viewport()->framesPresented() == presented)
-                    QTest::qWait(1);
-                firstMs = double(t.nsecsElapsed()) * 1e-6;
-                while (!window.settled())
-                    QTest::qWait(1);
-            }));
+                                 window.studio().session().setParameter(view, e.parameter, value);
+                                 while (window.studio().frames()[std::size_t(view)].image == before)
+                                     QTest::qWait(1);
+                                 // The image was composed as it arrived; the next frame the viewport presents shows it.
+                                 const int presented = window.viewport()->framesPresented();
+                                 while (window.viewport()->framesPresented() == presented)
+                                     QTest::qWait(1);
+                                 firstMs = double(t.nsecsElapsed()) * 1e-6;
+                                 while (!window.studio().settled())
+                                     QTest::qWait(1);
+                             }));
             first.push_back(firstMs);
             final.push_back(double(t.nsecsElapsed()) * 1e-6);
             value = !value;
         }
         std::sort(first.begin(), first.end());
         std::sort(final.begin(), final.end());
-        const View& v = window.session().project().views[std::size_t(view)];
+        const View& v = window.studio().session().project().views[std::size_t(view)];
         std::printf("%-24s %-12s %-10s first frame %6.0f ms (worst %6.0f), final %6.0f ms, GUI stall %.1f ms\n",
                     QFileInfo(e.project).fileName().toUtf8().constData(), e.view, v.technique.c_str(), first[2],
                     first.back(), final[2], stall);
@@ -240,7 +240,7 @@ int main(int argc, char** argv) {
     if (option == "--edit") return 0;
     // A slider dragged over the WVDS view for 3 s, and the references of the default project refining.
     MainWindow window(&vulkan, k512);
-    window.setRecovery(MainWindow::Recovery::Never);
+    window.studio().setRecovery(Studio::Recovery::Never);
     window.show();
     if (!QTest::qWaitForWindowExposed(&window)) return 1;
     window.openProject(root + "/projects/examples/wvds-box.json", false);
@@ -281,7 +281,7 @@ int main(int argc, char** argv) {
                 "%d over 20 ms in %.1f s)\n",
                 dragStall, drag.p99Ms, drag.over20, drag.seconds);
     MainWindow room(&vulkan, {"camera.width=512", "camera.height=512", "reference.spp=16"});
-    room.setRecovery(MainWindow::Recovery::Never);
+    room.studio().setRecovery(Studio::Recovery::Never);
     room.show();
     if (!QTest::qWaitForWindowExposed(&room)) return 1;
     // A new window's first frame builds its display pipeline (on a software device, its shaders are compiled to

@@ -272,53 +272,6 @@ void PhasePlot::redraw() {
 // ---------------------------------------------------------------------------------------------------------------------
 // LTSD plots
 
-void LtsdTables::setDirectory(const QString& directory) {
-    directory_ = directory;
-    entries_.clear();
-}
-
-const LtsdTables::Entry& LtsdTables::get(const std::string& phaseType) {
-    auto it = entries_.find(phaseType);
-    if (it != entries_.end()) return it->second;
-    Entry entry;
-    try {
-        auto table = std::make_shared<const LtsdTable>(
-            loadLtsdTable(ltsdTablePath(phaseType, directory_.toStdString()), phaseType));
-        entry.errorCurve = std::make_shared<const std::vector<LtsdFitError>>(ltsdFitErrorCurve(*table, kErrorSamples));
-        entry.table = std::move(table);
-    } catch (const std::exception& e) {
-        entry.error = QString::fromStdString(e.what());
-    }
-    return entries_.emplace(phaseType, std::move(entry)).first->second;
-}
-
-LtsdFit ltsdFitOf(const QString& medium, const QString& view, const PhaseFunction& phase, LtsdTables& tables) {
-    LtsdFit fit;
-    fit.medium = medium;
-    fit.view = view;
-    fit.g = phase.g;
-    const std::string type = toString(phase.kind);
-    if (phase.kind != PhaseKind::HenyeyGreenstein) {
-        QStringList have;
-        for (const std::string& t : ltsdTablePhases(tables.directory().toStdString()))
-            have << QString::fromStdString(t);
-        fit.message = QString("No LTSD table for %1 (the phase function of medium '%2'); tables exist for: %3")
-                          .arg(QString::fromStdString(type), medium, have.isEmpty() ? "none" : have.join(", "));
-        if (have.contains(QString::fromStdString(type)))
-            fit.message = QString("The LTSD plots evaluate HG only; medium '%1' has a %2 phase function")
-                              .arg(medium, QString::fromStdString(type));
-        return fit;
-    }
-    const LtsdTables::Entry& entry = tables.get(type);
-    if (!entry.table) {
-        fit.message = "Cannot read the LTSD table of hg: " + entry.error;
-        return fit;
-    }
-    fit.table = entry.table;
-    fit.errorCurve = entry.errorCurve;
-    return fit;
-}
-
 QColor LtsdPolarPlot::phaseColour() { return QColor(230, 159, 0); }  // the paper's Fig. 12: HG orange, solid
 QColor LtsdPolarPlot::fitColour() { return QColor(0, 114, 178); }    // the fit blue, broken
 

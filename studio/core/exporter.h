@@ -11,14 +11,19 @@
 #include <QObject>
 #include <QStringList>
 
+#include <atomic>
 #include <functional>
+#include <memory>
 #include <vector>
-
-class QWidget;
 
 namespace tyndall::studio {
 
-class Plot;
+// A plot the export writes as plot-<name>.png and .svg: `write` draws it to a path, the format from its suffix, and
+// returns false with the reason. The window's plots are widgets (ui/plots.h); the export only calls them.
+struct PlotFile {
+    QString name;
+    std::function<bool(const QString& path, QString* error)> write;
+};
 
 class Exporter : public QObject {
     Q_OBJECT
@@ -30,17 +35,20 @@ public:
         std::vector<ViewFrame> frames;
         CompositorState display;
         QImage viewport;
-        std::vector<Plot*> plots;  // drawn on the GUI thread while the export is planned
+        std::vector<PlotFile> plots;  // drawn on the GUI thread while the export is planned
     };
     // Writes everything now, on this thread. False with the reason.
     bool exportNow(const QString& folder, const Input& input, QString* error);
-    // The same in the background with a progress dialog over `parent` that can cancel: finished says how it went
-    // (the notes, or the error).
-    void start(const QString& folder, const Input& input, QWidget* parent);
+    // The same in the background, a file at a time: started says how many files, progress how many are written,
+    // finished how it went (the notes, or the error; "cancelled" after cancel()).
+    void start(const QString& folder, const Input& input);
+    void cancel();
     bool running() const { return running_ > 0; }
     const QStringList& notes() const { return notes_; }
 
 signals:
+    void started(int files);
+    void progress(int written);
     void finished(bool ok, const QString& message);
 
 private:
@@ -51,6 +59,7 @@ private:
     Background& background_;
     QStringList notes_;
     int running_ = 0;
+    std::shared_ptr<std::atomic<bool>> cancelled_;  // of the export in flight
 };
 
 }  // namespace tyndall::studio

@@ -9,7 +9,6 @@
 
 #include "background.h"
 #include "compositor.h"
-#include "plots.h"
 #include "render_service.h"
 
 #include <QObject>
@@ -19,6 +18,13 @@
 #include <vector>
 
 namespace tyndall::studio {
+
+// One point of a view's convergence: its error against the reference when it had `spp` samples.
+struct ConvergencePoint {
+    int spp = 0;
+    double seconds = 0.0;
+    double relMSE = 0.0;
+};
 
 class ComparisonModel : public QObject {
     Q_OBJECT

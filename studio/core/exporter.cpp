@@ -1,19 +1,16 @@
 #include "exporter.h"
 
-#include "plots.h"
-
 #include "tyndall/image/image_io.h"
 #include "tyndall/image/metrics.h"
 
 #include <QDir>
-#include <QPointer>
-#include <QProgressDialog>
 #include <QSaveFile>
 
 #include <nlohmann/json.hpp>
 
 #include <atomic>
 #include <memory>
+#include <optional>
 
 namespace tyndall::studio {
 
@@ -24,7 +21,14 @@ std::vector<std::function<void()>> Exporter::plan(const QString& folder, const I
     if (!dir.exists() && !QDir().mkpath(folder)) throw std::runtime_error("cannot create " + folder.toStdString());
     std::vector<std::function<void()>> steps;
     nlohmann::json metrics = nlohmann::json::array();
-    std::string csv = metricsCsvHeader() + "\n";
+    struct MetricsRow {
+        std::size_t entry;
+        std::string view;
+        std::shared_ptr<const Image> image, against;
+        double exposure;
+        std::optional<Metrics> known;
+    };
+    std::vector<MetricsRow> rows;
     const double scale = sharedDifferenceScale(input.frames);
     const Tonemap tonemap = input.display.tonemap;
     notes_.clear();
@@ -62,9 +66,12 @@ std::vector<std::function<void()>> Exporter::plan(const QString& folder, const I
             m["stale"] = pair.stale;
             if (pair.stale) notes_ << f.name + ": the last image and reference of one state (stale)";
         }
-        if (pair.against && f.metrics && !f.snapshot && !f.alternate) {
-            m.update(metricsToJson(*f.metrics));
-            csv += metricsCsvRow(f.name.toStdString(), *f.metrics) + "\n";
+        // The metrics of the exported pair: the model's when they are of that pair, else computed with the files (they
+        // were left out while the model's were in flight, or while the view was compared with a snapshot).
+        if (pair.against) {
+            std::optional<Metrics> known;
+            if (f.metrics && !f.snapshot && !f.alternate) known = f.metrics;
+            rows.push_back({metrics.size(), f.name.toStdString(), image, pair.against, own, known});
         }
         metrics.push_back(m);
         // Region insets: the region of the view and of its reference, when a region is drawn.
@@ -85,20 +92,28 @@ std::vector<std::function<void()>> Exporter::plan(const QString& folder, const I
                 throw std::runtime_error("cannot write " + path.toStdString());
         };
     };
-    steps.push_back(writeText("metrics.json", metrics.dump(2) + "\n"));
+    steps.push_back([rows = std::move(rows), metrics, writeText]() mutable {
+        std::string csv = metricsCsvHeader() + "\n";
+        for (const MetricsRow& row : rows) {
+            const Metrics m = row.known ? *row.known : computeMetrics(*row.image, *row.against, row.exposure);
+            metrics[row.entry].update(metricsToJson(m));
+            csv += metricsCsvRow(row.view, m) + "\n";
+        }
+        writeText("metrics.json", metrics.dump(2) + "\n")();
+        writeText("metrics.csv", csv)();
+    });
     const nlohmann::json display = {{"tonemap", tonemapNames()[std::size_t(input.display.tonemap)]},
                                      {"exposureOffset", input.display.exposureOffset},
                                      {"differenceScale", scale}};
     steps.push_back(writeText("display.json", display.dump(2) + "\n"));
-    steps.push_back(writeText("metrics.csv", csv));
     steps.push_back([frame = input.viewport, path = dir.filePath("viewport.png")] {
         if (!frame.save(path)) throw std::runtime_error("cannot write viewport.png");
     });
     // The plots draw with their widgets: here, on the GUI thread (~0.1 s each).
-    for (Plot* plot : input.plots)
+    for (const PlotFile& plot : input.plots)
         for (const char* suffix : {".png", ".svg"}) {
             QString why;
-            if (!plot->exportTo(dir.filePath("plot-" + plot->name() + suffix), &why))
+            if (!plot.write(dir.filePath("plot-" + plot.name + suffix), &why))
                 throw std::runtime_error(why.toStdString());
         }
     return steps;
@@ -115,7 +130,7 @@ bool Exporter::exportNow(const QString& folder, const Input& input, QString* err
     }
 }
 
-void Exporter::start(const QString& folder, const Input& input, QWidget* parent) {
+void Exporter::start(const QString& folder, const Input& input) {
     std::vector<std::function<void()>> steps;
     try {
         steps = plan(folder, input);
@@ -123,19 +138,13 @@ void Exporter::start(const QString& folder, const Input& input, QWidget* parent)
         emit finished(false, QString::fromStdString(e.what()));
         return;
     }
-    // The files are written in the background pool, one after another, with a progress dialog that can cancel:
-    // the window stays live (the export froze it for 20-30 s).
-    auto* progress =
-        new QProgressDialog("Exporting the comparison into " + folder, "Cancel", 0, int(steps.size()), parent);
-    progress->setObjectName("exportProgress");
-    progress->setAttribute(Qt::WA_DeleteOnClose);
-    progress->setMinimumDuration(0);
-    progress->setValue(0);
+    // The files are written in the background pool, one after another: the window stays live (the export froze it
+    // for 20-30 s), and the window's progress dialog can cancel between two files.
     auto cancelled = std::make_shared<std::atomic<bool>>(false);
-    connect(progress, &QProgressDialog::canceled, this, [cancelled] { *cancelled = true; });
-    QPointer<QProgressDialog> dialog(progress);
+    cancelled_ = cancelled;
     ++running_;
-    background_.run([this, steps = std::move(steps), cancelled, dialog] {
+    emit started(int(steps.size()));
+    background_.run([this, steps = std::move(steps), cancelled] {
         QString error;
         int done = 0;
         try {
@@ -145,19 +154,24 @@ void Exporter::start(const QString& folder, const Input& input, QWidget* parent)
                     break;
                 }
                 step();
-                QMetaObject::invokeMethod(this, [dialog, n = ++done] {
-                    if (dialog) dialog->setValue(n);
-                }, Qt::QueuedConnection);
+                QMetaObject::invokeMethod(
+                    this, [this, n = ++done] { emit progress(n); }, Qt::QueuedConnection);
             }
         } catch (const std::exception& e) {
             error = QString::fromStdString(e.what());
         }
-        QMetaObject::invokeMethod(this, [this, dialog, error] {
-            --running_;
-            if (dialog) dialog->close();
-            emit finished(error.isEmpty(), error.isEmpty() ? notes_.join("\n") : error);
-        }, Qt::QueuedConnection);
+        QMetaObject::invokeMethod(
+            this,
+            [this, error] {
+                --running_;
+                emit finished(error.isEmpty(), error.isEmpty() ? notes_.join("\n") : error);
+            },
+            Qt::QueuedConnection);
     });
+}
+
+void Exporter::cancel() {
+    if (cancelled_) *cancelled_ = true;
 }
 
 }  // namespace tyndall::studio

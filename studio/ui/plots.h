@@ -11,6 +11,9 @@
 //   LtsdErrorPlot    the fit's error against g, the medium's g marked.
 #pragma once
 
+#include "comparison_model.h"
+#include "phase_curves.h"
+
 #include "tyndall/core/scene.h"
 #include "tyndall/framework/technique.h"
 #include "tyndall/tables/ltsd_table.h"
@@ -58,13 +61,6 @@ private:
     QString name_;
 };
 
-// One point of a view's convergence: its error against the reference when it had `spp` samples.
-struct ConvergencePoint {
-    int spp = 0;
-    double seconds = 0.0;
-    double relMSE = 0.0;
-};
-
 class ConvergencePlot final : public Plot {
     Q_OBJECT
 public:
@@ -88,13 +84,6 @@ public:
     void showMessage(const QString& message);
 };
 
-// A phase function to plot: its value per steradian at mu = cos theta.
-struct PhaseCurve {
-    QString name;
-    std::function<double(double mu)> value;
-    bool selected = false;  // drawn bold (the selected view's medium)
-};
-
 class PhasePlot final : public Plot {
     Q_OBJECT
 public:
@@ -109,39 +98,6 @@ private:
     Kind kind_;
     std::vector<PhaseCurve> curves_;
 };
-
-// The LTSD tables the studio has read, by phase type, each loaded once (and again after setDirectory): the table, its
-// error over g (computed once, ~10 ms), or the loader's error.
-class LtsdTables {
-public:
-    struct Entry {
-        std::shared_ptr<const LtsdTable> table;                       // null: `error` says why
-        std::shared_ptr<const std::vector<LtsdFitError>> errorCurve;  // over the table's g range
-        QString error;
-    };
-    // "" is the default search (ltsdTablesDirectory).
-    void setDirectory(const QString& directory);
-    const QString& directory() const { return directory_; }
-    const Entry& get(const std::string& phaseType);
-    static constexpr int kErrorSamples = 101;
-
-private:
-    QString directory_;
-    std::map<std::string, Entry> entries_;
-};
-
-// What the LTSD plots show: a medium's HG phase function and its table, or why there is none.
-struct LtsdFit {
-    QString medium;  // its name, and the view it belongs to, for the caption
-    QString view;
-    double g = 0.0;
-    std::shared_ptr<const LtsdTable> table;  // null: `message` says why
-    std::shared_ptr<const std::vector<LtsdFitError>> errorCurve;
-    QString message;
-};
-
-// The fit of a medium's phase function: its table when the phase function is HG and the table loads, else the reason.
-LtsdFit ltsdFitOf(const QString& medium, const QString& view, const PhaseFunction& phase, LtsdTables& tables);
 
 class LtsdPolarPlot final : public Plot {
     Q_OBJECT

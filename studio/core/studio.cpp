@@ -1,0 +1,614 @@
+#include "studio.h"
+#include "image_file.h"
+#include "trace.h"
+
+#include "tyndall/core/geometry.h"
+#include "tyndall/techniques/registry.h"
+#include "tyndall/techniques/render.h"
+
+#include <QCoreApplication>
+#include <QFile>
+#include <QFileInfo>
+#include <QTimer>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace tyndall::studio {
+
+namespace {
+
+// Right after an edit, the frame that would only mark the view as rendering waits this long for the new image.
+constexpr qint64 kEditQuietMs = 150;
+
+}  // namespace
+
+QString techniqueDisplayName(const std::string& technique) {
+    try {
+        return QString::fromStdString(createTechnique(technique)->displayName());
+    } catch (const std::exception&) {
+        return QString::fromStdString(technique);
+    }
+}
+
+Studio::Studio(std::vector<std::string> overrides, QObject* parent)
+    : QObject(parent),
+      overrides_(std::move(overrides)),
+      background_(new Background(this)),
+      scheduler_(new RenderScheduler(session_, *background_, this)),
+      model_(new ComparisonModel(*background_, this)),
+      files_(new ProjectFiles(session_, this)),
+      snapshots_(new SnapshotStore(session_, this)),
+      exporter_(new Exporter(*background_, this)),
+      animation_(new Animation(session_, this)),
+      composer_(new Composer(this)) {
+    // The data flows one way: session -> scheduler -> model -> composer, docks and exports.
+    connect(&session_, &Session::projectReplaced, this, [this] {
+        rebuildViews(true);
+        emit titleChanged();
+    });
+    connect(&session_, &Session::viewChanged, this, [this](int view) {
+        trace("edit of view %d", view);
+        noteEdit();
+        model_->setExposure(view, session_.project().views[std::size_t(view)].exposure);
+        scheduler_->viewEdited(view);
+        recompose();
+    });
+    connect(&session_, &Session::modifiedChanged, this, [this](bool) { emit titleChanged(); });
+    connect(&session_, &Session::sceneChanged, this, &Studio::onSceneChanged);
+    connect(scheduler_, &RenderScheduler::started, model_, &ComparisonModel::renderStarted);
+    connect(scheduler_, &RenderScheduler::failed, model_, &ComparisonModel::renderFailed);
+    connect(scheduler_, &RenderScheduler::stateChanged, model_, &ComparisonModel::setState);
+    connect(scheduler_, &RenderScheduler::output, this, [this](const RenderOutput& out) {
+        model_->addOutput(out);
+        if (!out.error.isEmpty() && out.view < model_->size())
+            say(model_->frames()[std::size_t(out.view)].name + ": " + out.error);
+        if (!out.reference) requestCompose(true);  // a new image is shown at once, even right after an edit
+    });
+    connect(model_, &ComparisonModel::framesChanged, this, &Studio::recompose);
+    connect(files_, &ProjectFiles::autosaveFailed, this, [this](const QString& text) { say(text); });
+    connect(composer_, &Composer::composed, this, [this](const QImage& frame) {
+        composed_ = frame;
+        emit frameComposed(frame);
+    });
+    // The animation advances only once the views have shown its last frame (coalesced: by the simulated time that
+    // passed meanwhile), and its edits replace a progressive view's long render at once (flushDirty).
+    animation_->setViewsReady([this] { return scheduler_->viewsCaughtUp(); });
+    connect(animation_, &Animation::advancing, this, [this](bool during) { scheduler_->setAnimating(during); });
+    connect(animation_, &Animation::refused, this,
+            [this](const QString& reason) { say("Animation stopped: " + reason); });
+}
+
+Studio::~Studio() {
+    scheduler_->cancelAll();
+    background_->waitForDone();  // metrics in flight post back to the model
+    files_->waitForAutosaves();  // and a failed autosave would say so
+    QCoreApplication::removePostedEvents(this);
+}
+
+// --- The project
+
+bool Studio::openProject(const QString& path, QString* error) {
+    QString why;
+    scheduler_->cancelAll();
+    files_->setOpening(true);
+    const bool opened = session_.open(path, &why, overrides_);
+    files_->setOpening(false);
+    if (!opened) {
+        say("Not opened: " + why);
+        // The current project stays; its renders start again where they were cancelled.
+        if (!session_.project().views.empty()) scheduler_->renderAll();
+        if (error) *error = why;
+        return false;
+    }
+    files_->addRecent(path);
+    recover(path);
+    return true;
+}
+
+void Studio::recover(const QString& path) {
+    const std::optional<QString> autosave = files_->newerAutosave(path);
+    if (!autosave || files_->recovery() == Recovery::Never) return;
+    bool recover = files_->recovery() == Recovery::Always;
+    if (files_->recovery() == Recovery::Ask) {
+        if (!askRecovery_) return;  // nobody to ask: the autosave stays for a later start
+        recover = askRecovery_(path, *autosave);
+    }
+    if (!recover) {
+        QFile::remove(*autosave);
+        return;
+    }
+    QString error;
+    if (files_->recover(*autosave, &error))
+        say("Recovered the unsaved changes of " + QFileInfo(path).fileName());
+    else
+        emit warning("Cannot recover", error);
+}
+
+bool Studio::saveProject(QString* error) {
+    if (!session_.save(error)) return false;
+    // The snapshots go beside the file; a failure there leaves the project saved and says so.
+    QString why;
+    if (!snapshots_->save(session_.path(), &why)) {
+        if (error) *error = "The project is saved, but not its snapshots: " + why;
+        return false;
+    }
+    return true;
+}
+
+bool Studio::saveProjectAs(const QString& path, QString* error) {
+    const QString before = session_.path();
+    const bool modified = session_.modified();
+    if (!session_.saveAs(path, error)) return false;
+    // The changes are in the new file: the old file's autosave (and the new one's, if it was not modified) hold
+    // nothing to recover.
+    if (!before.isEmpty() && QFileInfo(before).absoluteFilePath() != QFileInfo(path).absoluteFilePath())
+        files_->removeAutosave(before);
+    if (!modified) files_->removeAutosave();
+    files_->addRecent(path);
+    emit titleChanged();
+    QString why;
+    if (!snapshots_->save(path, &why)) {
+        if (error) *error = "The project is saved, but not its snapshots: " + why;
+        return false;
+    }
+    return true;
+}
+
+QString Studio::title() const {
+    const QString name = QString::fromStdString(session_.project().name);
+    return (name.isEmpty() ? QString("Tyndall") : name) + " - " + QFileInfo(session_.path()).fileName() +
+           "[*] - Tyndall Studio";
+}
+
+void Studio::rebuildViews(bool projectOpened) {
+    const Project& project = session_.project();
+    scheduler_->reset();
+    std::vector<ComparisonModel::ViewInfo> views;
+    for (std::size_t i = 0; i < project.views.size(); ++i) {
+        const View& v = project.views[i];
+        views.push_back(
+            {QString::fromStdString(v.name), techniqueDisplayName(v.technique), v.exposure, scheduler_->state(int(i))});
+    }
+    model_->reset(views);
+    scheduler_->renderAll();
+    state_.region = QRect();
+    state_.current = 0;
+    comparedSnapshot_ = -1;
+    ++probeGeneration_;  // a probe still running for the previous views is not shown
+    QString error;
+    if (!projectOpened)
+        snapshots_->followViews();
+    else if (!snapshots_->load(session_.path(), &error))
+        say("Snapshots not loaded: " + error);
+    emit viewsRebuilt();
+    if (model_->size() > 0) emit currentViewChanged(state_.current);
+    emit phasesChanged();
+    recompose();
+}
+
+void Studio::onSceneChanged() {
+    noteEdit();
+    // Views added, removed, renamed or given another technique (or an undo of that): the views start again, the
+    // current one kept by name (a new view is selected).
+    if (scheduler_->viewsChanged()) {
+        const Project& project = session_.project();
+        const QString current =
+            state_.current < model_->size() ? model_->frames()[std::size_t(state_.current)].name : QString();
+        std::set<std::string> before;
+        for (const ViewFrame& f : model_->frames())
+            before.insert(f.name.toStdString());
+        rebuildViews(false);
+        int select = -1;
+        for (int i = 0; i < int(project.views.size()); ++i) {
+            if (!before.count(project.views[std::size_t(i)].name)) select = i;  // new
+            if (select < 0 && QString::fromStdString(project.views[std::size_t(i)].name) == current) select = i;
+        }
+        selectView(std::max(select, 0));
+        emit titleChanged();
+        return;
+    }
+    for (int i = 0; i < int(session_.project().views.size()); ++i)
+        model_->setExposure(i, session_.project().views[std::size_t(i)].exposure);
+    scheduler_->sceneEdited();
+    emit phasesChanged();
+    recompose();
+}
+
+bool Studio::settled() const {
+    return scheduler_->settled() && model_->idle() && !exporter_->running();
+}
+
+// --- Views
+
+int Studio::openImageView(const QString& path, QString* error) {
+    try {
+        const ImageFile file = readImageFile(path);
+        const int view = model_->addImage(QFileInfo(path).fileName(), file.kind, file.image);
+        emit viewListChanged();
+        selectView(view);
+        if (file.displayReferred)
+            say(QFileInfo(path).fileName() +
+                " holds display values: decoded with the sRGB curve, its metrics are "
+                "approximate (values the display clipped stay at 1)");
+        return view;
+    } catch (const std::exception& e) {
+        if (error) *error = QString::fromStdString(e.what());
+        return -1;
+    }
+}
+
+bool Studio::duplicateView(int view, QString* error) {
+    if (model_->isImage(view)) {
+        if (error)
+            *error = "'" + model_->frames()[std::size_t(view)].name +
+                     "' is an image opened from a file, not a view of the project";
+        return false;
+    }
+    return session_.duplicateView(view, error);
+}
+
+bool Studio::renameView(int view, const QString& name, QString* error) {
+    if (!model_->isImage(view)) return session_.renameView(view, name.toStdString(), error);
+    model_->renameImage(view, name);
+    emit viewListChanged();
+    return true;
+}
+
+bool Studio::removeView(int view, QString* error) {
+    if (!model_->isImage(view)) return session_.removeView(view, error);
+    model_->removeImage(view);  // an image view is not in the project: closed
+    emit viewListChanged();
+    selectView(std::min(view, model_->size() - 1));
+    return true;
+}
+
+void Studio::selectView(int view) {
+    if (view < 0 || view >= model_->size()) return;
+    state_.current = view;
+    emit currentViewChanged(view);
+    emit phasesChanged();
+    recompose();
+}
+
+// --- The display
+
+void Studio::setLayoutMode(Layout layout) {
+    state_.layout = layout;
+    recompose();
+}
+
+void Studio::setTonemap(Tonemap op) {
+    state_.tonemap = op;
+    recompose();
+}
+
+void Studio::cycleTonemap() {
+    setTonemap(Tonemap((int(state_.tonemap) + 1) % int(tonemapNames().size())));
+}
+
+void Studio::cycleDifference() {
+    state_.diff = DiffMode((int(state_.diff) + 1) % 4);
+    recompose();
+}
+
+void Studio::swapSides() {
+    state_.swapped = !state_.swapped;
+    recompose();
+}
+
+void Studio::offsetExposure(double stops) {
+    state_.exposureOffset += stops;
+    recompose();
+}
+
+void Studio::zoomBy(double steps) {
+    state_.zoom = std::clamp(state_.zoom * std::pow(1.25, steps), 1.0, 64.0);
+    recompose();
+}
+
+void Studio::panBy(QPointF delta) {
+    if (model_->frames().empty()) return;
+    const std::vector<QRect> rects = viewRects(model_->frames(), state_, viewportSize());
+    QRect r;
+    for (const QRect& c : rects)
+        if (!c.isEmpty()) r = c;
+    if (r.width() <= 0) return;
+    state_.centre -= QPointF(delta.x() / r.width(), delta.y() / r.height()) / state_.zoom;
+    state_.centre = QPointF(std::clamp(state_.centre.x(), 0.0, 1.0), std::clamp(state_.centre.y(), 0.0, 1.0));
+    recompose();
+}
+
+void Studio::resetZoom() {
+    state_.zoom = 1.0;
+    state_.centre = QPointF(0.5, 0.5);
+    recompose();
+}
+
+void Studio::setSplitAt(QPointF position) {
+    if (state_.layout != Layout::Split || model_->frames().empty()) return;
+    const std::vector<QRect> rects = viewRects(model_->frames(), state_, viewportSize());
+    const QRect r = rects[std::size_t(std::clamp(state_.current, 0, int(rects.size()) - 1))];
+    if (r.width() <= 0) return;
+    state_.split = std::clamp((position.x() - r.x()) / r.width(), 0.0, 1.0);
+    recompose();
+}
+
+void Studio::centreSplit() {
+    state_.split = 0.5;
+    recompose();
+}
+
+void Studio::showReference(bool show) {
+    state_.showReference = show;
+    recompose();
+}
+
+void Studio::showViewAlone(int view) {
+    selectView(view);
+    if (state_.layout == Layout::Grid) setLayoutMode(Layout::Single);
+    recompose();
+}
+
+// --- Composing
+
+QSize Studio::viewportSize() const {
+    // Without a window, the size of a small viewport.
+    return (viewportSize_ ? viewportSize_() : QSize(640, 480)).expandedTo(QSize(64, 48));
+}
+
+void Studio::recompose() {
+    emit displayChanged();
+    // Once per pass of the event loop, however many changes it brought. Right after an edit, the frame that would only
+    // mark the view as rendering waits up to kEditQuietMs: if the new image comes first (the analytic techniques take
+    // ~100 ms), that frame is never composed nor presented, and the two cores go to the render.
+    if (composeQueued_) return;
+    composeQueued_ = true;
+    QTimer::singleShot(0, this, [this] { requestCompose(); });
+}
+
+void Studio::requestCompose(bool now) {
+    if (!composeQueued_) return;
+    // Within kEditQuietMs of an edit the frame waits for the rest of it (also one asked for just before the edit).
+    const qint64 wait = editClock_.isValid() ? kEditQuietMs - editClock_.elapsed() : 0;
+    if (!now && wait > 0) {
+        QTimer::singleShot(int(wait), this, [this] { requestCompose(); });
+        return;
+    }
+    composeQueued_ = false;
+    composer_->request(model_->frames(), state_, viewportSize());
+}
+
+const QImage& Studio::composedFrame() {
+    requestCompose(true);
+    composed_ = composer_->wait();
+    return composed_;
+}
+
+// --- Comparands, snapshots, regions
+
+int Studio::takeSnapshot() {
+    if (state_.current < 0 || state_.current >= model_->size()) return -1;
+    const int index = snapshots_->take(state_.current, model_->frames()[std::size_t(state_.current)].image);
+    if (index >= 0) emit snapshotTaken(index);
+    return index;
+}
+
+void Studio::compareWithSnapshot(int index) {
+    const std::vector<Snapshot>& shots = snapshots_->snapshots();
+    comparedSnapshot_ = index >= 0 && index < int(shots.size()) ? index : -1;
+    if (comparedSnapshot_ < 0) {
+        model_->compareWithSnapshot(-1, nullptr, QString());
+        return;
+    }
+    const Snapshot& s = shots[std::size_t(comparedSnapshot_)];
+    if (s.view < 0)
+        say(s.name + ": its view '" + QString::fromStdString(s.viewName) + "' is gone; nothing to compare it with",
+            5000);
+    model_->compareWithSnapshot(s.view, s.image, s.name);
+}
+
+void Studio::chooseReferenceView(int view) {
+    model_->chooseReferenceView(view);
+    const int chosen = model_->referenceView();
+    say(chosen < 0 ? QString("Comparing against the reference")
+                   : "Comparing against view " + model_->frames()[std::size_t(chosen)].name,
+        5000);
+}
+
+void Studio::toggleReferenceView(int view) {
+    chooseReferenceView(view == model_->referenceView() ? -1 : view);
+}
+
+void Studio::setRegion(QRect region) {
+    state_.region = region;
+    model_->setRegion(region);
+}
+
+// --- The camera and the animation
+
+void Studio::orbitCamera(double yaw, double pitch) {
+    QString error;
+    if (!camera_.orbit(yaw, pitch, &error) && !error.isEmpty()) say(error, 5000);
+}
+
+void Studio::dollyCamera(double factor) {
+    QString error;
+    if (!camera_.dolly(factor, &error) && !error.isEmpty()) say(error, 5000);
+}
+
+void Studio::frameScene() {
+    QString error;
+    if (!camera_.frameScene(&error) && !error.isEmpty()) say(error, 5000);
+}
+
+void Studio::stepAnimation() {
+    QString error;
+    if (!animation_->step(1, &error)) say(error);
+}
+
+void Studio::resetAnimation() {
+    QString error;
+    if (!animation_->reset(&error)) say(error);
+}
+
+// --- Picking
+
+bool Studio::viewAt(QPointF position, int& view, QPoint& pixel) const {
+    const std::vector<ViewFrame>& frames = model_->frames();
+    const std::vector<QRect> rects = viewRects(frames, state_, viewportSize());
+    for (std::size_t i = 0; i < rects.size(); ++i) {
+        const QRect& r = rects[i];
+        if (r.isEmpty() || !r.contains(position.toPoint())) continue;
+        const std::shared_ptr<const Image>& img = frames[i].image ? frames[i].image : frames[i].reference;
+        if (!img) return false;
+        view = int(i);
+        const QRectF visible = visiblePart(QSize(img->width(), img->height()), state_);
+        pixel = QPoint(
+            std::clamp(int(visible.x() + (position.x() - r.x()) / r.width() * visible.width()), 0, img->width() - 1),
+            std::clamp(int(visible.y() + (position.y() - r.y()) / r.height() * visible.height()), 0,
+                       img->height() - 1));
+        return true;
+    }
+    return false;
+}
+
+bool Studio::particlePointAt(QPointF position, int& medium, Vec3& point) const {
+    int view;
+    QPoint pixel;
+    if (!viewAt(position, view, pixel) || model_->isImage(view)) return false;
+    const Project& project = session_.project();
+    std::vector<std::string> own;
+    try {
+        own = resolvePart(techniqueCatalogue(), project, project.views[std::size_t(view)]).media;
+    } catch (const std::exception&) {
+    }
+    const std::vector<ParticleMedium>& media = project.scene.particleMedia;
+    auto renders = [&](const ParticleMedium& m) { return std::find(own.begin(), own.end(), m.name) != own.end(); };
+    const bool any = std::any_of(media.begin(), media.end(), renders);
+    const Camera& cam = project.scene.camera;
+    double nearest = std::numeric_limits<double>::infinity();
+    bool nearestHit = false;
+    medium = -1;
+    for (std::size_t i = 0; i < media.size(); ++i) {
+        if (any && !renders(media[i])) continue;
+        bool hit = false;
+        const std::optional<Vec3> p =
+            impulsePoint(cam, media[i].allParticles(), pixel.x() + 0.5, pixel.y() + 0.5, &hit);
+        if (!p) continue;
+        const double distance = glm::length(*p - cam.position);
+        // A medium the ray meets beats one it misses; then the nearest.
+        if (medium >= 0 && (nearestHit && !hit)) continue;
+        if (medium >= 0 && hit == nearestHit && distance >= nearest) continue;
+        medium = int(i);
+        point = *p;
+        nearest = distance;
+        nearestHit = hit;
+    }
+    return medium >= 0;
+}
+
+bool Studio::addImpulseAt(QPointF position, QString* error) {
+    int medium;
+    Vec3 point;
+    if (!particlePointAt(position, medium, point)) {
+        if (error) *error = "No particle medium under the cursor";
+        return false;
+    }
+    return animation_->addImpulse(medium, point, error);
+}
+
+bool Studio::imagePlaneAxes(QPointF position, const Vec3& point, Vec3& right, Vec3& up) const {
+    int view;
+    QPoint pixel;
+    if (!viewAt(position, view, pixel)) return false;
+    const Camera& cam = session_.project().scene.camera;
+    const QRect r = viewRects(model_->frames(), state_, viewportSize())[std::size_t(view)];
+    const QRectF visible = visiblePart(QSize(cam.width, cam.height), state_);
+    const Vec3 forward = glm::normalize(cam.target - cam.position);
+    const Vec3 x = glm::normalize(glm::cross(forward, cam.up)), y = glm::cross(x, forward);
+    const double depth = glm::dot(point - cam.position, forward);
+    const double metresPerPixel =
+        2.0 * depth * std::tan(glm::radians(cam.fovY) * 0.5) / cam.height * visible.height() / std::max(1, r.height());
+    right = x * metresPerPixel;
+    up = y * metresPerPixel;
+    return true;
+}
+
+void Studio::inspect(QPointF position) {
+    int view;
+    QPoint pixel;
+    if (!viewAt(position, view, pixel)) return;
+    auto rgb = [&](const std::shared_ptr<const Image>& img) {
+        if (!img || pixel.x() >= img->width() || pixel.y() >= img->height()) return QString("-");
+        return QString("%1, %2, %3")
+            .arg(img->at(pixel.x(), pixel.y(), 0), 0, 'g', 4)
+            .arg(img->at(pixel.x(), pixel.y(), 1), 0, 'g', 4)
+            .arg(img->at(pixel.x(), pixel.y(), 2), 0, 'g', 4);
+    };
+    QString html = QString("<b>pixel %1, %2</b><table cellspacing=3>").arg(pixel.x()).arg(pixel.y());
+    for (const ViewFrame& f : model_->frames())
+        html += "<tr><td>" + f.name.toHtmlEscaped() + "</td><td>" + rgb(f.image) + "</td><td>ref " + rgb(f.reference) +
+                "</td></tr>";
+    emit inspected(html + "</table>");
+
+    // The PDF plot, for a technique that samples distances. Making the job and probing (for WVDS a scene preparation
+    // with a BVH build) run in the background pool, never on the GUI thread; only the latest hover's answer is shown.
+    const std::uint64_t generation = ++probeGeneration_;
+    if (model_->isImage(view)) {
+        emit probeMessage(model_->frames()[std::size_t(view)].name + " is an image from a file: no probe");
+        return;
+    }
+    background_->run([this, generation, project = session_.project(), path = session_.path().toStdString(),
+                      viewName = session_.project().views[std::size_t(view)].name,
+                      technique = model_->frames()[std::size_t(view)].technique, pixel] {
+        std::optional<ProbeResult> result;
+        QString text;
+        try {
+            RenderJob job = makeViewJob(project, path, viewName);
+            bool hasProbe = false;
+            for (const ProbeInfo& p : job.technique->probes())
+                hasProbe |= p.name == "distances";
+            if (hasProbe)
+                result = job.technique->probe(job.request, "distances", pixel.x(), pixel.y());
+            else
+                text = technique + " has no distance probe";
+        } catch (const std::exception& e) {
+            text = QString::fromStdString(e.what());
+        }
+        QMetaObject::invokeMethod(
+            this,
+            [this, generation, result = std::move(result), text] {
+                if (generation != probeGeneration_) return;  // a later hover, or another project, replaced it
+                if (result)
+                    emit probed(*result);
+                else
+                    emit probeMessage(text);
+            },
+            Qt::QueuedConnection);
+    });
+}
+
+// --- Plots and export
+
+void Studio::setLtsdTablesDirectory(const QString& directory) {
+    ltsdTables_.setDirectory(directory);
+    emit phasesChanged();
+}
+
+bool Studio::exportComparison(const QString& folder, QString* error) {
+    return exporter_->exportNow(
+        folder, {model_->frames(), state_, composedFrame(), plotFiles_ ? plotFiles_() : std::vector<PlotFile>{}},
+        error);
+}
+
+void Studio::startExport(const QString& folder) {
+    exporter_->start(folder,
+                     {model_->frames(), state_, composedFrame(), plotFiles_ ? plotFiles_() : std::vector<PlotFile>{}});
+}
+
+}  // namespace tyndall::studio

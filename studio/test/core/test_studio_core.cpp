@@ -1,0 +1,338 @@
+// The studio's core without a window (QGuiApplication on the offscreen platform): the comparison model and the
+// compositor on images made here, and the session, the render scheduler and the Studio that wires them on the
+// bundled default project at a small size. What the window shows is tested in test/gui.
+#include "studio.h"
+
+#include <QDir>
+#include <QGuiApplication>
+#include <QSignalSpy>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QTest>
+
+#include <cmath>
+
+using namespace tyndall;
+using namespace tyndall::studio;
+
+namespace {
+
+const QString kDefaultProject = TYNDALL_SOURCE_DIR "/projects/default.json";
+// Small renders: the project's camera and its reference at a few spp.
+const std::vector<std::string> kSmall = {"camera.width=48", "camera.height=36", "reference.spp=4"};
+
+std::shared_ptr<const Image> flat(int width, int height, float value) {
+    auto image = std::make_shared<Image>(Image::rgb(width, height));
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c)
+                image->at(x, y, c) = value;
+    return image;
+}
+
+RenderOutput output(int view, bool reference, quint64 state, std::shared_ptr<const Image> image) {
+    RenderOutput out;
+    out.view = view;
+    out.reference = reference;
+    out.state = state;
+    out.image = std::move(image);
+    out.spp = 4;
+    out.final = true;
+    return out;
+}
+
+bool waitFor(const std::function<bool()>& done, int ms = 240000) {
+    QElapsedTimer clock;
+    clock.start();
+    while (!done() && clock.elapsed() < ms)
+        QTest::qWait(20);
+    return done();
+}
+
+}  // namespace
+
+class StudioCoreTest : public QObject {
+    Q_OBJECT
+
+private slots:
+    void initTestCase() {
+        // The reference cache and autosaves of these tests stay apart from the user's.
+        QStandardPaths::setTestModeEnabled(true);
+        QDir(Studio::referenceCacheFolder()).removeRecursively();  // every run renders its references
+    }
+
+    // --- ComparisonModel: images of one state are compared; an edit makes them stale until the new reference.
+    void comparesOnlyImagesOfOneState() {
+        Background background;
+        ComparisonModel model(background);
+        model.reset({{"a", "Technique A", 0.0, 11}, {"b", "Technique B", 0.0, 21}});
+        QCOMPARE(model.size(), 2);
+        model.addOutput(output(0, true, 11, flat(8, 6, 1.0f)));
+        model.addOutput(output(0, false, 11, flat(8, 6, 1.1f)));
+        background.waitForDone();
+        QTRY_VERIFY(model.frames()[0].metrics.has_value());
+        // relMSE of a uniform 10 % error: (0.1)^2 / (1^2 + eps) per pixel.
+        QVERIFY(std::abs(model.frames()[0].metrics->relMSE - 0.01) < 1e-3);
+        QVERIFY(!model.frames()[0].metricsStale);
+        QVERIFY(!model.frames()[1].metrics.has_value());  // nothing rendered for b
+
+        // An edit of a's part: the old pair's numbers stay, marked stale, until a reference of the new state comes.
+        model.setState(0, 12);
+        model.addOutput(output(0, false, 12, flat(8, 6, 1.0f)));
+        background.waitForDone();
+        QTRY_VERIFY(model.frames()[0].metricsStale);
+        model.addOutput(output(0, true, 12, flat(8, 6, 1.0f)));
+        background.waitForDone();
+        QTRY_VERIFY(!model.frames()[0].metricsStale && model.frames()[0].metrics->relMSE < 1e-12);
+        QVERIFY(model.idle());
+    }
+
+    // Shift+N: every other view is compared against view N's image; the same again goes back to the reference.
+    void comparesAgainstAnotherView() {
+        Background background;
+        ComparisonModel model(background);
+        model.reset({{"a", "A", 0.0, 1}, {"b", "B", 0.0, 2}});
+        for (int v = 0; v < 2; ++v)
+            model.addOutput(output(v, true, quint64(v + 1), flat(4, 4, 1.0f)));
+        model.addOutput(output(0, false, 1, flat(4, 4, 2.0f)));
+        model.addOutput(output(1, false, 2, flat(4, 4, 2.0f)));
+        model.chooseReferenceView(0);
+        QCOMPARE(model.referenceView(), 0);
+        QVERIFY(model.frames()[1].alternate);
+        QCOMPARE(model.frames()[1].alternateName, QString("a"));
+        background.waitForDone();
+        QTRY_VERIFY(model.frames()[1].metrics.has_value());
+        QVERIFY(model.frames()[1].metrics->relMSE < 1e-12);  // b equals a
+        model.chooseReferenceView(-1);
+        QVERIFY(!model.frames()[1].alternate);
+    }
+
+    // An image opened from a file is a read-only view after the project's, compared against a project view's
+    // reference; removing it leaves the project's views.
+    void imageViewsFollowTheProjectViews() {
+        Background background;
+        ComparisonModel model(background);
+        model.reset({{"a", "A", 0.0, 1}});
+        const int image = model.addImage("shot.exr", "EXR", flat(4, 4, 0.5f));
+        QCOMPARE(image, 1);
+        QVERIFY(model.isImage(image));
+        QCOMPARE(model.projectViews(), 1);
+        QCOMPARE(model.imageAgainst(image), 0);
+        model.addOutput(output(0, true, 1, flat(4, 4, 0.5f)));
+        background.waitForDone();
+        QTRY_VERIFY(model.frames()[std::size_t(image)].metrics.has_value());
+        model.removeImage(image);
+        QCOMPARE(model.size(), 1);
+    }
+
+    // The convergence plot keeps one point per bucket of spp, four buckets per octave.
+    void keepsOneConvergencePointPerBucket() {
+        std::vector<ConvergencePoint> points;
+        for (int spp = 1; spp <= 1024; ++spp)
+            addConvergencePoint(points, ConvergencePoint{spp, 0.0, 1.0 / spp});
+        QVERIFY(points.size() >= 36 && points.size() <= 44);
+        for (std::size_t i = 1; i < points.size(); ++i)
+            QVERIFY(ComparisonModel::convergenceBucket(points[i].spp) >
+                    ComparisonModel::convergenceBucket(points[i - 1].spp));
+        QCOMPARE(points.back().spp, 1024);
+        addConvergencePoint(points, ConvergencePoint{1, 0.0, 1.0});  // a new render starts a new list
+        QCOMPARE(points.size(), std::size_t(1));
+    }
+
+    // --- Compositor: where each view goes, and what the frame shows.
+    void placesTheViews() {
+        std::vector<ViewFrame> frames(3);
+        for (ViewFrame& f : frames)
+            f.image = flat(40, 30, 0.5f);
+        CompositorState state;
+        const QSize size(400, 300);
+        std::vector<QRect> grid = viewRects(frames, state, size);
+        QCOMPARE(grid.size(), std::size_t(3));
+        for (std::size_t i = 0; i < grid.size(); ++i) {
+            QVERIFY(!grid[i].isEmpty());
+            QVERIFY(QRect(QPoint(0, 0), size).contains(grid[i]));
+            for (std::size_t j = 0; j < i; ++j)
+                QVERIFY(!grid[i].intersects(grid[j]));
+            // The image's aspect ratio is kept.
+            QVERIFY(std::abs(double(grid[i].width()) / grid[i].height() - 4.0 / 3.0) < 0.05);
+        }
+        state.layout = Layout::Single;
+        state.current = 1;
+        const std::vector<QRect> single = viewRects(frames, state, size);
+        QVERIFY(single[0].isEmpty() && single[2].isEmpty());
+        QVERIFY(single[1].width() > grid[1].width());
+        // At 4x zoom a quarter of the image shows, around the centre.
+        state.zoom = 4.0;
+        const QRectF visible = visiblePart(QSize(40, 30), state);
+        QCOMPARE(visible.width(), 10.0);
+        QCOMPARE(visible.center(), QPointF(20.0, 15.0));
+    }
+
+    void composesWhatTheViewsShow() {
+        std::vector<ViewFrame> frames(2);
+        frames[0].image = flat(40, 30, 0.0f);  // black
+        frames[1].image = flat(40, 30, 1.0f);  // white
+        CompositorState state;
+        const QSize size(400, 300);
+        const QImage frame = compose(frames, state, size);
+        QCOMPARE(frame.size(), size);
+        const std::vector<QRect> rects = viewRects(frames, state, size);
+        auto centre = [&](int view) { return QColor(frame.pixel(rects[std::size_t(view)].center())); };
+        QVERIFY(centre(0).value() < 10);
+        QVERIFY(centre(1).value() > 245);
+        // The display exposure darkens every view: -1 EV halves linear white (sRGB 0.5 -> ~188).
+        state.exposureOffset = -1.0;
+        const QImage darker = compose(frames, state, size);
+        const int white = QColor(darker.pixel(rects[1].center())).value();
+        QVERIFY2(white > 180 && white < 195, qPrintable(QString::number(white)));
+    }
+
+    // --- Session: an edit is undoable; a broken project is refused and the current one stays.
+    void sessionEditsAndRefusals() {
+        Session session;
+        QString error;
+        QVERIFY2(session.open(kDefaultProject, &error, kSmall), qPrintable(error));
+        QVERIFY(!session.modified());
+        const double before = session.project().views[0].exposure;
+        QSignalSpy changed(&session, &Session::viewChanged);
+        session.setExposure(0, before + 1.0);
+        QCOMPARE(changed.count(), 1);
+        QVERIFY(session.modified());
+        QCOMPARE(session.project().views[0].exposure, before + 1.0);
+        session.undoStack()->undo();
+        QCOMPARE(session.project().views[0].exposure, before);
+        QVERIFY(!session.modified());
+
+        QTemporaryDir dir;
+        const QString broken = dir.filePath("broken.json");
+        QFile file(broken);
+        QVERIFY(file.open(QIODevice::WriteOnly));
+        file.write("{\"version\": 1, \"scene\": ");
+        file.close();
+        const std::string name = session.project().name;
+        QVERIFY(!session.open(broken, &error));
+        QVERIFY2(error.contains("broken.json"), qPrintable(error));
+        QCOMPARE(session.project().name, name);
+    }
+
+    // --- Studio: the whole flow without a window. Every view renders with its reference and metrics; an edit of one
+    // view renders that view again and leaves the others' images as they were; the display's operations; picking.
+    void rendersAndEditsWithoutAWindow() {
+        Studio studio(kSmall);
+        studio.setRecovery(Studio::Recovery::Never);
+        studio.setViewportSize([] { return QSize(400, 300); });
+        QSignalSpy rebuilt(&studio, &Studio::viewsRebuilt);
+        QString error;
+        QVERIFY2(studio.openProject(kDefaultProject, &error), qPrintable(error));
+        QCOMPARE(rebuilt.count(), 1);
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+        const std::vector<ViewFrame>& frames = studio.frames();
+        QCOMPARE(int(frames.size()), 4);
+        for (const ViewFrame& f : frames) {
+            QVERIFY2(f.image && f.reference, qPrintable(f.name + ": " + f.error));
+            QVERIFY(f.metrics.has_value());
+        }
+        const QImage composed = studio.composedFrame();
+        QCOMPARE(composed.size(), QSize(400, 300));
+
+        // An edit of view 1 (its exposure) renders it again; the other views keep their images.
+        const std::shared_ptr<const Image> other = frames[0].image, edited = frames[1].image;
+        studio.session().setExposure(1, frames[1].exposure + 1.0);
+        QVERIFY(waitFor([&] { return studio.settled() && studio.frames()[1].image != edited; }));
+        QCOMPARE(studio.frames()[0].image, other);
+        QVERIFY(studio.title().contains("[*]"));
+
+        // The display: 2 alone switches the grid to the single layout; D cycles the difference; the zoom clamps.
+        studio.showViewAlone(2);
+        QCOMPARE(studio.currentView(), 2);
+        QCOMPARE(studio.compositorState().layout, Layout::Single);
+        studio.cycleDifference();
+        QCOMPARE(studio.compositorState().diff, DiffMode::Signed);
+        studio.zoomBy(100.0);
+        QCOMPARE(studio.compositorState().zoom, 64.0);
+        studio.resetZoom();
+        QCOMPARE(studio.compositorState().zoom, 1.0);
+
+        // Picking: the centre of the single view is the centre pixel of its image.
+        int view = -1;
+        QPoint pixel;
+        const QRect r = viewRects(studio.frames(), studio.compositorState(), studio.viewportSize())[2];
+        QVERIFY(studio.viewAt(QPointF(r.center()) + QPointF(0.5, 0.5), view, pixel));
+        QCOMPARE(view, 2);
+        QVERIFY(std::abs(pixel.x() - 24) <= 1 && std::abs(pixel.y() - 18) <= 1);
+        QSignalSpy inspected(&studio, &Studio::inspected);
+        studio.inspect(QPointF(r.center()));
+        QCOMPARE(inspected.count(), 1);
+        QVERIFY(inspected.first().first().toString().contains(studio.frames()[0].name));
+        studio.waitForBackgroundWork();
+
+        // Snapshots: of the current view, compared against instead of its reference.
+        const int shot = studio.takeSnapshot();
+        QCOMPARE(shot, 0);
+        studio.compareWithSnapshot(shot);
+        QCOMPARE(studio.comparedSnapshot(), 0);
+        QVERIFY(studio.frames()[2].snapshot);
+
+        // Export without a window: the images and metrics of every view.
+        QTemporaryDir dir;
+        QVERIFY2(studio.exportComparison(dir.path(), &error), qPrintable(error));
+        for (const char* file : {"metrics.json", "metrics.csv", "display.json", "viewport.png"})
+            QVERIFY2(QFile::exists(dir.filePath(file)), file);
+        QVERIFY(QFile::exists(dir.filePath(studio.frames()[0].name + ".exr")));
+        studio.waitForBackgroundWork();
+    }
+
+    // Views authored through the studio: a duplicate is selected; an image view cannot be duplicated, is renamed and
+    // closed without touching the project.
+    void authorsViews() {
+        Studio studio(kSmall);
+        studio.setRecovery(Studio::Recovery::Never);
+        QString error;
+        QVERIFY(studio.openProject(kDefaultProject, &error));
+        const int n = int(studio.session().project().views.size());
+        QVERIFY2(studio.duplicateView(0, &error), qPrintable(error));
+        QCOMPARE(int(studio.session().project().views.size()), n + 1);
+        // The copy comes right after its original, and is selected.
+        QCOMPARE(studio.currentView(), 1);
+        QCOMPARE(studio.session().project().views[1].technique, studio.session().project().views[0].technique);
+        QVERIFY(studio.session().project().views[1].name != studio.session().project().views[0].name);
+        const int image = studio.openImageView(TYNDALL_SOURCE_DIR "/tests/data/images/glow-16x12.exr", &error);
+        QVERIFY2(image == n + 1, qPrintable(error));
+        QCOMPARE(studio.currentView(), image);
+        QVERIFY(!studio.duplicateView(image, &error));
+        QVERIFY(error.contains("image opened from a file"));
+        QVERIFY(studio.renameView(image, "glow", &error));
+        QCOMPARE(studio.frames()[std::size_t(image)].name, QString("glow"));
+        QVERIFY(studio.removeView(image, &error));
+        QCOMPARE(studio.comparison().size(), n + 1);
+        QCOMPARE(int(studio.session().project().views.size()), n + 1);
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+    }
+
+    // A project that does not open keeps the current one, says why, and its renders go on.
+    void refusesABrokenProject() {
+        Studio studio(kSmall);
+        studio.setRecovery(Studio::Recovery::Never);
+        QString error;
+        QVERIFY(studio.openProject(kDefaultProject, &error));
+        QSignalSpy said(&studio, &Studio::message);
+        QVERIFY(!studio.openProject(TYNDALL_SOURCE_DIR "/projects/missing.json", &error));
+        QVERIFY2(error.contains("missing.json"), qPrintable(error));
+        QCOMPARE(said.count(), 1);
+        QVERIFY(said.first().first().toString().startsWith("Not opened"));
+        QCOMPARE(int(studio.frames().size()), 4);
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+        for (const ViewFrame& f : studio.frames())
+            QVERIFY(f.image);
+    }
+};
+
+int main(int argc, char** argv) {
+    QGuiApplication app(argc, argv);
+    QGuiApplication::setOrganizationName("Tyndall");
+    QGuiApplication::setApplicationName("Tyndall Studio core tests");
+    StudioCoreTest test;
+    return QTest::qExec(&test, argc, argv);
+}
+
+#include "test_studio_core.moc"

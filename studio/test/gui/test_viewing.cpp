@@ -1,0 +1,356 @@
+// What the viewport shows and how: the default project on screen, tonemaps, layouts, the wipe and its differences,
+// captions in narrow tiles, help and the state the display hides, the default and restored window layout.
+#include "gui_test.h"
+
+namespace tyndall::studio::gui {
+
+class ViewingTest final : public FlowCase {
+    Q_OBJECT
+public:
+    using FlowCase::FlowCase;
+
+private slots:
+    void initTestCase() { startOnTheDefaultProject(); }
+
+    // Every view rendered with its reference; the viewport presented the composed frame, and a screenshot of it shows
+    // the same picture (Qt 6.4's grab of a BGRA swapchain swaps red and blue: either order is accepted).
+    void startsOnTheDefaultProject() {
+        const auto& frames = window_->studio().frames();
+        QCOMPARE(int(frames.size()), 4);
+        for (const ViewFrame& f : frames) {
+            QVERIFY2(f.image, qPrintable(f.name + ": " + f.error));
+            QVERIFY2(f.reference, qPrintable(f.name));
+            QVERIFY(sum(*f.image) > 0.0);
+            QVERIFY(f.metrics.has_value());
+        }
+        QCOMPARE(frames[1].technique, QString("WVDS box"));
+        QVERIFY(window_->windowTitle().contains("Foggy room"));
+        // The metrics dock: a row per view, named after it, with the numbers of its metrics.
+        auto* table = window_->findChild<QTableWidget*>("metrics");
+        QVERIFY(table);
+        QTRY_COMPARE(table->rowCount(), int(frames.size()));
+        for (int row = 0; row < table->rowCount(); ++row) {
+            QCOMPARE(table->verticalHeaderItem(row)->text(), frames[std::size_t(row)].name);
+            QCOMPARE(table->item(row, 0)->text(), QString::number(frames[std::size_t(row)].metrics->relMSE, 'g', 3));
+            QCOMPARE(table->item(row, 1)->text(), QString::number(frames[std::size_t(row)].metrics->psnr, 'g', 4));
+        }
+        QTRY_VERIFY(window_->viewport()->framesPresented() > 0);
+        window_->studio().recompose();
+        QVERIFY(distinctColours(window_->studio().composedFrame()) > 50);
+
+        QTRY_VERIFY(window_->viewport()->framesPresented() > 1);
+        const QImage shot = window_->viewport()->grab();
+        const QImage composed = window_->studio().composedFrame();
+        QVERIFY(!shot.isNull());
+        QCOMPARE(shot.size(), composed.size());
+        int matches = 0, samples = 0;
+        for (int y = 5; y < shot.height(); y += 17)
+            for (int x = 5; x < shot.width(); x += 17) {
+                const QColor s = shot.pixelColor(x, y), c = composed.pixelColor(x, y);
+                const bool straight = std::abs(s.red() - c.red()) <= 2 && std::abs(s.blue() - c.blue()) <= 2;
+                const bool swapped = std::abs(s.red() - c.blue()) <= 2 && std::abs(s.blue() - c.red()) <= 2;
+                matches += (straight || swapped) && std::abs(s.green() - c.green()) <= 2;
+                ++samples;
+            }
+        QVERIFY2(matches >= samples * 95 / 100, qPrintable(QString("%1 of %2").arg(matches).arg(samples)));
+    }
+
+    // The tonemap operator (toolbar combo, M cycles) changes every view's display: what the viewport shows at a pixel
+    // is tonemapRgb() of the view's image there, for each operator, and false colour adds its colour bar.
+    void tonemapsTheViewport() {
+        window_->studio().setLayoutMode(Layout::Single);
+        window_->studio().selectView(0);
+        auto* combo = window_->findChild<QComboBox*>("tonemap");
+        QVERIFY(combo);
+        QCOMPARE(combo->count(), int(tonemapNames().size()));
+        const ViewFrame& f = window_->studio().frames()[0];
+        const std::vector<QRect> rects = viewRects(window_->studio().frames(), window_->studio().compositorState(),
+                                                   window_->studio().composedFrame().size());
+        const QPoint at = rects[0].center();
+        int view = -1;
+        QPoint pixel;
+        QVERIFY(window_->studio().viewAt(at, view, pixel));
+        QCOMPARE(view, 0);
+        std::vector<QImage> frames;
+        for (int op = 0; op < combo->count(); ++op) {
+            combo->setCurrentIndex(op);
+            QCOMPARE(int(window_->studio().compositorState().tonemap), op);
+            const QImage frame = window_->studio().composedFrame();
+            const QColor shown = frame.pixelColor(at);
+            // The nearest-neighbour scaling may land on a neighbour of the pixel viewAt() names.
+            bool found = false;
+            for (int dy = -1; dy <= 1 && !found; ++dy)
+                for (int dx = -1; dx <= 1 && !found; ++dx) {
+                    const int x = std::clamp(pixel.x() + dx, 0, f.image->width() - 1);
+                    const int y = std::clamp(pixel.y() + dy, 0, f.image->height() - 1);
+                    const auto d =
+                        tonemapRgb(f.image->at(x, y, 0), f.image->at(x, y, 1), f.image->at(x, y, 2),
+                                   f.exposure + window_->studio().compositorState().exposureOffset, Tonemap(op));
+                    found = std::abs(shown.red() - int(std::lround(d[0] * 255.0f))) <= 1 &&
+                            std::abs(shown.green() - int(std::lround(d[1] * 255.0f))) <= 1 &&
+                            std::abs(shown.blue() - int(std::lround(d[2] * 255.0f))) <= 1;
+                }
+            QVERIFY2(found, qPrintable(QString("operator %1 shows %2").arg(op).arg(shown.name())));
+            frames.push_back(frame);
+        }
+        for (std::size_t i = 0; i < frames.size(); ++i)
+            for (std::size_t j = i + 1; j < frames.size(); ++j)
+                QVERIFY(frames[i] != frames[j]);
+        // False colour draws the viridis bar at the bottom right: its left end is viridis(0), dark purple.
+        const QImage falseColour = frames.back();
+        const int barWidth = std::min(256, falseColour.width() / 3);
+        const QColor left = falseColour.pixelColor(falseColour.width() - barWidth - 12 + 1, falseColour.height() - 25);
+        QVERIFY2(left.red() > 50 && left.red() < 90 && left.green() < 20 && left.blue() > 60, qPrintable(left.name()));
+        // M (an application-wide shortcut, here typed in the viewport) cycles from false colour back to sRGB, and the
+        // combo follows.
+        QTest::keyClick(window_->viewport(), Qt::Key_M);
+        QCOMPARE(window_->studio().compositorState().tonemap, Tonemap::Srgb);
+        QCOMPARE(combo->currentIndex(), 0);
+        QCOMPARE(window_->studio().composedFrame(), frames.front());
+        window_->studio().setLayoutMode(Layout::Grid);
+    }
+
+    // Grid shows every view; single shows one (keys 1-9 select it, from the viewport), holding Shift shows its
+    // reference.
+    void switchesLayouts() {
+        window_->studio().setLayoutMode(Layout::Grid);
+        const QImage grid = window_->studio().composedFrame();
+        QTest::keyClick(window_->viewport(), Qt::Key_2);
+        QCOMPARE(window_->studio().compositorState().current, 1);
+        QCOMPARE(window_->studio().compositorState().layout, Layout::Single);
+        const QImage single = window_->studio().composedFrame();
+        QVERIFY(single != grid);
+        QTest::keyPress(window_->viewport(), Qt::Key_Shift);
+        QVERIFY(window_->studio().compositorState().showReference);
+        const QImage reference = window_->studio().composedFrame();
+        QTest::keyRelease(window_->viewport(), Qt::Key_Shift);
+        QVERIFY(!window_->studio().compositorState().showReference);
+        QVERIFY(reference != single);
+
+        // Shift+2 makes view 2 every other view's reference (its label and metrics follow); Shift+2 again undoes it.
+        QTest::keyClick(window_->viewport(), Qt::Key_2, Qt::ShiftModifier);
+        QCOMPARE(window_->studio().referenceView(), 1);
+        QVERIFY(window_->studio().frames()[0].alternate == window_->studio().frames()[1].image);
+        QVERIFY(!window_->studio().frames()[1].alternate);
+        QTRY_VERIFY(window_->studio().settled());
+        QVERIFY(window_->studio().frames()[0].metrics && window_->studio().frames()[0].metrics->relMSE > 0.0);
+        QTest::keyClick(window_->viewport(), Qt::Key_2, Qt::ShiftModifier);
+        QCOMPARE(window_->studio().referenceView(), -1);
+        QVERIFY(!window_->studio().frames()[0].alternate);
+        QTRY_VERIFY(window_->studio().settled());
+
+        // Zoom shows the same part of every view: the frame changes, and the cursor maps to pixels of that part.
+        window_->studio().setLayoutMode(Layout::Grid);
+        const QImage unzoomed = window_->studio().composedFrame();
+        const QRect r = viewRects(window_->studio().frames(), window_->studio().compositorState(),
+                                  window_->viewport()->pixelSize())[0];
+        int view = -1;
+        QPoint pixel;
+        QVERIFY(window_->studio().viewAt(QPointF(r.x() + 1, r.y() + 1), view, pixel));
+        QCOMPARE(pixel, QPoint(0, 0));
+        window_->studio().compositorState().zoom = 4.0;
+        window_->studio().recompose();
+        QVERIFY(window_->studio().composedFrame() != unzoomed);
+        QVERIFY(window_->studio().viewAt(QPointF(r.x() + 1, r.y() + 1), view, pixel));
+        QCOMPARE(view, 0);
+        QCOMPARE(pixel, QPoint(36, 27));  // the centre quarter of 96 x 72 starts at (36, 27)
+        QTest::keyClick(window_->viewport(), Qt::Key_Z);
+        QCOMPARE(window_->studio().compositorState().zoom, 1.0);
+        QCOMPARE(window_->studio().composedFrame(), unzoomed);
+    }
+
+    // The wipe shows the view left of the divider and its reference right of it; T swaps them; the difference mode
+    // draws its colour bar.
+    void wipesAndShowsDifferences() {
+        window_->studio().selectView(1);
+        window_->studio().setLayoutMode(Layout::Single);
+        const QImage technique = window_->studio().composedFrame();
+        window_->studio().compositorState().showReference = true;
+        window_->studio().recompose();
+        const QImage reference = window_->studio().composedFrame();
+        window_->studio().compositorState().showReference = false;
+
+        window_->studio().setLayoutMode(Layout::Split);
+        window_->studio().compositorState().split = 0.5;
+        window_->studio().recompose();
+        const QImage split = window_->studio().composedFrame();
+        const QRect r = viewRects(window_->studio().frames(), window_->studio().compositorState(), split.size())[1];
+        QVERIFY(!r.isEmpty());
+        const int y = r.center().y();
+        const int leftX = r.x() + r.width() / 4, rightX = r.x() + 3 * r.width() / 4;
+        QCOMPARE(split.pixel(leftX, y), technique.pixel(leftX, y));
+        QCOMPARE(split.pixel(rightX, y), reference.pixel(rightX, y));
+        QTest::keyClick(window_->viewport(), Qt::Key_T);
+        QVERIFY(window_->studio().compositorState().swapped);
+        QCOMPARE(window_->studio().composedFrame().pixel(leftX, y), reference.pixel(leftX, y));
+        window_->studio().compositorState().swapped = false;
+
+        window_->studio().setLayoutMode(Layout::Single);
+        window_->studio().compositorState().diff = DiffMode::Signed;
+        window_->studio().recompose();
+        const QImage diff = window_->studio().composedFrame();
+        QVERIFY(diff != technique);
+        window_->studio().compositorState().diff = DiffMode::Off;
+        window_->studio().setLayoutMode(Layout::Grid);
+    }
+
+    // Captions fit their tiles: in the default window's grid every view's metrics line shows its relMSE and PSNR whole
+    // (the compact form drops the long names), and a wide tile gets the full caption with the technique's name.
+    void captionsKeepTheirNumbersInNarrowTiles() {
+        QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 120000);
+        window_->studio().setLayoutMode(Layout::Grid);
+        const std::vector<ViewFrame>& frames = window_->studio().frames();
+        const std::vector<QRect> rects =
+            viewRects(frames, window_->studio().compositorState(), window_->viewport()->pixelSize());
+        const QString ellipsis(QChar(0x2026));
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            const ViewFrame& f = frames[i];
+            QVERIFY(f.metrics);
+            const QStringList caption = tileCaption(f, false, rects[i].width(), window_->font());
+            QCOMPARE(caption.size(), 2);
+            const QString relMSE = QString::number(f.metrics->relMSE, 'g', 3),
+                          psnr = QString::number(f.metrics->psnr, 'g', 3);
+            QVERIFY2(caption[1].contains(relMSE) && caption[1].contains(psnr + " dB") && !caption[1].contains(ellipsis),
+                     qPrintable(QString("%1 px: %2").arg(rects[i].width()).arg(caption[1])));
+            QVERIFY2(caption[0].startsWith(f.name) && !caption[0].contains(ellipsis), qPrintable(caption[0]));
+            const QStringList wide = tileCaption(f, false, 2000, window_->font());
+            QVERIFY(wide[0].contains(f.technique));
+            QVERIFY(wide[1].contains("PSNR"));
+        }
+    }
+
+    // Help and hidden state: F1 opens the shortcuts overlay, which lists every menu shortcut (Ctrl+Y among them) and
+    // the mouse bindings; a Help menu holds it with the docs and the version; single-letter keys act while the Views
+    // list has the focus (its keyboard search swallowed them) and the toolbar follows the layout; the status bar shows
+    // the display exposure offset and the zoom; the Parameters dock names its exposure "view exposure".
+    void helpsAndShowsHiddenState() {
+        QVERIFY(window_->openProject(kDefaultProject, false));
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_F1);
+        auto* overlay = window_->findChild<QDialog*>("shortcutsOverlay");
+        QVERIFY(overlay);
+        QTRY_VERIFY(overlay->isVisible());
+        const QString text = window_->shortcutsText();
+        int listed = 0;
+        for (QAction* menu : window_->menuBar()->actions()) {
+            QList<QAction*> actions = menu->menu()->actions();
+            for (int i = 0; i < actions.size(); ++i) {
+                if (actions[i]->menu()) actions += actions[i]->menu()->actions();
+                for (const QKeySequence& k : actions[i]->shortcuts()) {
+                    QVERIFY2(text.contains(k.toString(QKeySequence::NativeText).toHtmlEscaped()),
+                             qPrintable(k.toString()));
+                    ++listed;
+                }
+            }
+        }
+        QVERIFY(listed >= 30);
+        for (const char* s : {"Ctrl+Y", "Alt+drag", "Ctrl+wheel", "Frame the scene", "Swap the wipe"})
+            QVERIFY2(text.contains(s), s);
+        overlay->close();
+        bool hasHelp = false;
+        for (QAction* menu : window_->menuBar()->actions())
+            hasHelp |= menu->text() == "&Help" && menu->menu()->actions().size() >= 3;
+        QVERIFY(hasHelp);
+
+        auto* list = window_->findChild<QListWidget*>("viewList");
+        QVERIFY(list);
+        list->setFocus();
+        QTRY_VERIFY(list->hasFocus());
+        const bool swapped = window_->studio().compositorState().swapped;
+        QTest::keyClick(list, Qt::Key_T);
+        QCOMPARE(window_->studio().compositorState().swapped, !swapped);
+        QTest::keyClick(list, Qt::Key_T);
+        QTest::keyClick(list, Qt::Key_E);
+        QCOMPARE(window_->studio().compositorState().exposureOffset, 0.5);
+        auto* display = window_->findChild<QLabel*>("displayStatus");
+        QVERIFY(display);
+        QVERIFY2(display->text().contains("+0.5 EV"), qPrintable(display->text()));
+        QTest::keyClick(list, Qt::Key_E, Qt::ShiftModifier);
+        QCOMPARE(window_->studio().compositorState().exposureOffset, 0.0);
+        QTest::keyClick(list, Qt::Key_3);
+        QCOMPARE(window_->studio().compositorState().current, 2);
+        QCOMPARE(window_->studio().compositorState().layout, Layout::Single);
+        QAction* single = nullptr;
+        for (QAction* a : window_->findChildren<QAction*>())
+            if (a->text() == "&Single") single = a;
+        QVERIFY(single && single->isChecked());  // the toolbar follows the layout chosen by a key
+        window_->studio().compositorState().zoom = 2.0;
+        window_->studio().recompose();
+        QVERIFY2(display->text().contains("zoom 2x"), qPrintable(display->text()));
+        QTest::keyClick(list, Qt::Key_Z);
+        QCOMPARE(window_->studio().compositorState().zoom, 1.0);
+        QTest::keyClick(list, Qt::Key_G);
+        QCOMPARE(window_->studio().compositorState().layout, Layout::Grid);
+        QVERIFY(window_->findChild<QDoubleSpinBox*>("exposure"));
+        bool named = false;
+        for (QLabel* label : window_->findChildren<QLabel*>())
+            named |= label->text() == "view exposure";
+        QVERIFY(named);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 120000);
+    }
+
+    // A wipe whose reference is not ready says so on its side (it was plain black), and so does its tile.
+    void wipeSaysWhenTheReferenceIsNotReady() {
+        auto image = std::make_shared<Image>(Image::rgb(48, 36));
+        for (int y = 0; y < 36; ++y)
+            for (int x = 0; x < 48; ++x)
+                for (int c = 0; c < 3; ++c)
+                    image->at(x, y, c) = 0.5f;
+        ViewFrame f;
+        f.name = "v";
+        f.technique = "t";
+        f.image = image;
+        f.referenceRendering = true;
+        CompositorState state;
+        state.layout = Layout::Split;
+        const QImage frame = compose({f}, state, QSize(480, 400));
+        const QRect r = viewRects({f}, state, frame.size())[0];
+        const QImage right = frame.copy(QRect(r.center().x() + 4, r.y(), r.right() - r.center().x() - 4, r.height()));
+        QVERIFY(distinctColours(right) > 2);  // text, not one colour
+    }
+
+    // The default layout gives the docks room: every row of the metrics table is visible, and the Scene dock shows
+    // more than a couple of rows.
+    void hasARoomyDefaultLayout() {
+        MainWindow fresh(vulkan_, kSmall);
+        fresh.studio().setRecovery(Studio::Recovery::Never);
+        fresh.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&fresh));
+        QVERIFY(fresh.openProject(kDefaultProject, false));
+        QTest::qWait(100);  // the default dock sizes are applied once the window is laid out
+        auto* table = fresh.findChild<QTableWidget*>("metrics");
+        QVERIFY(table && table->rowCount() == 4);
+        QVERIFY2(table->rowViewportPosition(3) + table->rowHeight(3) <= table->viewport()->height(),
+                 qPrintable(QString("%1 px for the rows").arg(table->viewport()->height())));
+        QVERIFY2(fresh.findChild<QDockWidget*>("sceneDock")->height() >= 300,
+                 qPrintable(QString::number(fresh.findChild<QDockWidget*>("sceneDock")->height())));
+        QTRY_VERIFY_WITH_TIMEOUT(fresh.studio().settled(), 120000);
+    }
+
+    // The window's size and dock layout come back on the next start (QSettings, saved on close).
+    void restoresTheWindowLayout() {
+        {
+            MainWindow first(vulkan_, kSmall);
+            first.show();
+            QVERIFY(QTest::qWaitForWindowExposed(&first));
+            first.resize(1100, 700);
+            first.findChild<QDockWidget*>("snapshotsDock")->hide();
+            QTRY_COMPARE(first.size(), QSize(1100, 700));
+            QVERIFY(first.close());
+        }
+        MainWindow second(vulkan_, kSmall);
+        QCOMPARE(second.size(), QSize(1100, 700));
+        QVERIFY(second.findChild<QDockWidget*>("snapshotsDock")->isHidden());
+        QVERIFY(!second.findChild<QDockWidget*>("metricsDock")->isHidden());
+        QSettings().remove("window");
+    }
+};
+
+QObject* makeViewingTest(QVulkanInstance* vulkan) {
+    return new ViewingTest(vulkan);
+}
+
+}  // namespace tyndall::studio::gui
+
+#include "test_viewing.moc"
