@@ -22,7 +22,7 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_CO
       -DCMAKE_C_FLAGS_SANITIZE="-O1 -g1 -DNDEBUG" -DTYNDALL_WARNINGS_AS_ERRORS=ON \
       -DTYNDALL_SANITIZERS=address,undefined -DTYNDALL_BUILD_STUDIO=OFF -DTYNDALL_BUILD_BENCHMARKS=OFF \
       ${CMAKE_CXX_COMPILER_LAUNCHER:+-DCMAKE_CXX_COMPILER_LAUNCHER=$CMAKE_CXX_COMPILER_LAUNCHER}
-cmake --build "$build" -j "$(nproc)" --target tyndall tyndall_core_tests tyndall_image_tests tyndall_tables_tests \
+cmake --build "$build" -j "$(nproc)" --target tyndall tyndall_core_tests tyndall_framework_tests tyndall_image_tests tyndall_tables_tests \
       tyndall_project_tests tyndall_shared_tests tyndall_cli_tests \
       tyndall_cli_reliability_tests tyndall_fuzz_project_replay tyndall_fuzz_image_replay tyndall_fuzz_project \
       tyndall_fuzz_image
@@ -60,7 +60,7 @@ status=0
 (
     s=0
     # The renderer library's unit tests, one program per layer (renderers/<layer>/test, shaders/shared/test).
-    for layer in core image tables project; do
+    for layer in core framework image tables project; do
         run_tests "$layer" "renderers/$layer/test" "./tyndall_${layer}_tests" || s=1
     done
     run_tests shared shaders/shared/test ./tyndall_shared_tests || s=1

@@ -3,11 +3,15 @@
 such folders pixel for pixel. Used to prove that a refactoring changes no image (issue 30): render with the old build,
 render with the new one, compare.
 
-  tools/render-all-views.py render --tyndall build/studio/cli/tyndall OUT_DIR [--size 48x36] [--spp 2]
+  tools/render-all-views.py render --tyndall build/studio/cli/tyndall OUT_DIR [--size 48x36] [--spp 2] [--gpu]
   tools/render-all-views.py compare OLD_DIR NEW_DIR
 
 compare reads the EXRs with oiiotool and requires every channel of every pixel to be equal (a difference of 0); the
-metadata (render times) is not compared. Exit 0: identical; 1: a difference or a file missing on one side."""
+metadata (render times) is not compared. Exit 0: identical; 1: a difference or a file missing on one side.
+
+--gpu renders the views of every technique with a GPU and a CPU path on the GPU instead (device=gpu; on lavapipe where
+there is no other): "auto" picks the CPU on lavapipe, so without it those paths are not compared. The shaders are read
+from the source tree at run time: render the old build with the old shaders checked out."""
 import argparse
 import json
 import pathlib
@@ -15,6 +19,9 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
+
+
+GPU_TECHNIQUES = {"isv", "ltsd", "pegoraro", "volume-ris", "wvds"}  # those with a device parameter
 
 
 def projects():
@@ -25,10 +32,15 @@ def render(args):
     out = pathlib.Path(args.out)
     failures = 0
     for project in projects():
-        views = [v["name"] for v in json.loads(project.read_text()).get("views", [])]
+        views = json.loads(project.read_text()).get("views", [])
         rel = project.relative_to(ROOT / "projects").with_suffix("")
-        # Views under views/ (a view may be named "reference"), the project's reference beside them.
-        jobs = [(f"views/{v}", ["--view", v], v) for v in views] + [("reference", ["--reference"], "(reference)")]
+        if args.gpu:
+            jobs = [(f"views-gpu/{v['name']}", ["--view", v["name"], "--set", f"views[{v['name']}].parameters.device=gpu"],
+                     v["name"]) for v in views if v.get("technique") in GPU_TECHNIQUES]
+        else:
+            # Views under views/ (a view may be named "reference"), the project's reference beside them.
+            jobs = [(f"views/{v['name']}", ["--view", v["name"]], v["name"]) for v in views] + \
+                   [("reference", ["--reference"], "(reference)")]
         for name, flags, label in jobs:
             target = out / rel / f"{name}.exr"
             target.parent.mkdir(parents=True, exist_ok=True)
@@ -78,6 +90,7 @@ def main():
     r.add_argument("--tyndall", required=True)
     r.add_argument("--size", default="48x36")
     r.add_argument("--spp", type=int, default=2)
+    r.add_argument("--gpu", action="store_true", help="the GPU paths (device=gpu) of the techniques that have one")
     c = sub.add_parser("compare")
     c.add_argument("old")
     c.add_argument("new")

@@ -19,6 +19,7 @@
 #define TY_BVH_NODES_BINDING 0
 #define TY_BVH_TRIANGLES_BINDING 1
 #include "../include/bvh_buffers.glsl"
+#include "../shared/accumulation.h"
 #include "../shared/volume_ris.h"
 
 layout(local_size_x = 64) in;
@@ -80,11 +81,10 @@ void main() {
     for (int i = 0; i < TY_RIS_VERTEX_TOTAL; ++i)
         sceneVertices[i] = vertices[i];
 #endif
-    // Work items take the image's groups of 64 pixels from 16 horizontal bands in turn, as in wvds.comp.glsl.
+    // The pixel of each work item, every pixel once per dispatch (shared/accumulation.h).
     uint item = push.first + gl_GlobalInvocationID.x;
     if (item >= push.end) return;
-    uint band = (item >> 6u) & 15u, groupInBand = item >> 10u;
-    uint pixel = (band * push.bandGroups + groupInBand) * 64u + (item & 63u);
+    uint pixel = accumulationPixel(item, push.bandGroups);
     if (pixel >= push.pixels) return;
     int px = int(pixel % push.width), py = int(pixel / push.width);
     RisTerms terms = risSample(sceneFrame, px, py, push.index);

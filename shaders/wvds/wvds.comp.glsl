@@ -21,6 +21,7 @@
 #define TY_BVH_NODES_BINDING 0
 #define TY_BVH_TRIANGLES_BINDING 1
 #include "../include/bvh_buffers.glsl"
+#include "../shared/accumulation.h"
 #include "../shared/wvds_scene.h"
 
 layout(local_size_x = 64) in;
@@ -95,15 +96,10 @@ void main() {
     for (int i = 0; i < TY_WVDS_LIGHTS; ++i)
         sceneLights[i] = lights[i];
 #endif
-    // Work items take the image's groups of 64 pixels from 16 horizontal bands in turn: item group g is group
-    // g / 16 of band g % 16. Any run of items, the slice a dispatch covers, then samples every band alike and costs
-    // the same per item. (Slices are sized from the last ones' cost per item; in image order they grew through a
-    // cheap sky into a slice of the dear rows with the sphere and the box, twice as long as intended.) Within a band
-    // the groups stay in order, so memory is read as 16 sequential streams.
+    // The pixel of each work item, every pixel once per dispatch (shared/accumulation.h).
     uint item = push.first + gl_GlobalInvocationID.x;
     if (item >= push.end) return;
-    uint band = (item >> 6u) & 15u, groupInBand = item >> 10u;
-    uint pixel = (band * push.bandGroups + groupInBand) * 64u + (item & 63u);
+    uint pixel = accumulationPixel(item, push.bandGroups);
     if (pixel >= push.pixels) return;
     int px = int(pixel % push.width), py = int(pixel / push.width);
     WvdsTerms terms = wvdsSample(sceneFrame, px, py, push.index);

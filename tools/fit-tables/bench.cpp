@@ -1,6 +1,6 @@
-// tyndall_ltsd_bench: the CPU cost of S (Eq. 21) per sample, with the entries fetched once (as a shader does, g being
-// uniform per medium) and with the fetch per call, for a quad light above, straddling and below the horizon; and the
-// fitting time of one table entry with each loss, measured in the same run (this machine's speed drifts); and S per
+// tyndall_fit_tables_bench: the CPU cost of S (Eq. 21) per sample, with the entries fetched once (as a shader does, g
+// being uniform per medium) and with the fetch per call, for a quad light above, straddling and below the horizon; and
+// the fitting time of one table entry with each loss, measured in the same run (this machine's speed drifts); and S per
 // sample on the Vulkan device (lavapipe here): BM_S_Gpu evaluates S over 2^20 quads in one compute dispatch (GPU time
 // from timestamps), against a dispatch that builds the same quads without S, and reports the difference per sample as
 // the counter ns_per_S. The entries are read from a buffer, as the LTSD technique's kernel reads its table.

@@ -37,4 +37,10 @@ ProgressiveResult renderProgressively(
     return result;
 }
 
+std::vector<std::string> estimateChannels(const std::vector<std::string>& further) {
+    std::vector<std::string> channels = {"R", "G", "B", "variance.R", "variance.G", "variance.B"};
+    channels.insert(channels.end(), further.begin(), further.end());
+    return channels;
+}
+
 }  // namespace tyndall

@@ -3,6 +3,7 @@
 #include "reference/integrator.h"
 #include "shared/singular_pixel.h"
 #include "tyndall/core/error.h"
+#include "tyndall/framework/progressive.h"
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
@@ -106,21 +107,15 @@ struct Accumulator {
 };
 
 Image resolve(const Accumulator& acc, int spp) {
-    Image image(acc.width, acc.height, {"R", "G", "B", "variance.R", "variance.G", "variance.B"});
+    Image image(acc.width, acc.height, estimateChannels());
     int nA = (spp + 1) / 2, nB = spp / 2;
     for (int y = 0; y < acc.height; ++y) {
         for (int x = 0; x < acc.width; ++x) {
             size_t i = size_t(y) * acc.width + x;
             glm::dvec3 mean = (acc.sumA[i] + acc.sumB[i]) / double(std::max(spp, 1));
-            glm::dvec3 variance(0.0);
-            if (nA > 0 && nB > 0) {
-                glm::dvec3 d = acc.sumA[i] / double(nA) - acc.sumB[i] / double(nB);
-                variance = d * d * 0.25;
-            }
-            for (int c = 0; c < 3; ++c) {
-                image.at(x, y, c) = float(mean[c]);
-                image.at(x, y, 3 + c) = float(variance[c]);
-            }
+            const glm::dvec3 variance =
+                nA > 0 && nB > 0 ? varianceOfMean(acc.sumA[i] / double(nA), acc.sumB[i] / double(nB)) : glm::dvec3(0.0);
+            writeEstimate(image, x, y, glm::vec3(mean), glm::vec3(variance));  // finite: non-finite samples are dropped
         }
     }
     return image;

@@ -2,7 +2,6 @@
 
 #include "tyndall/core/error.h"
 #include "tyndall/gpu/shader_compiler.h"
-#include "tyndall/gpu/slicer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -13,18 +12,11 @@ namespace tyndall::volume_ris {
 
 namespace {
 
-constexpr std::uint32_t kGroupSize = 64;
-constexpr std::uint32_t kBands = 16;  // as in the shader
 constexpr int kBindings = 9;
 
-struct Push {
-    std::uint32_t first;  // work items, see the shader
-    std::uint32_t end;    // one past the last item of this dispatch
-    std::uint32_t width;
-    std::uint32_t index;
-    std::uint32_t pixels;
-    std::uint32_t bandGroups;  // groups of 64 pixels in each of the kBands bands that work items take in turn
-};
+// The shader's push constants are a slice of GpuAccumulation's, field for field.
+using Push = GpuAccumulation::Slice;
+static_assert(sizeof(Push) == 6 * sizeof(std::uint32_t));
 
 std::string shaderPath() {
     return std::string(TYNDALL_SHADER_DIR) + "/volume_ris/volume_ris.comp.glsl";
@@ -32,7 +24,7 @@ std::string shaderPath() {
 
 }  // namespace
 
-GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
+GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()), accumulation_(*context_) {}
 
 gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene) {
     const shader::RisFrame& f = scene.frame;
@@ -76,49 +68,20 @@ void GpuRenderer::begin(const PreparedScene& scene, int width, int height) {
     buffers_.push_back(upload(scene.vertices));
     buffers_.push_back(upload(scene.surfaces.triangles));
     buffers_.push_back(upload(scene.surfaces.materials));
-    pixels_ = std::uint32_t(width) * std::uint32_t(height);
-    width_ = std::uint32_t(width);
-    // Kept from render to render at the same size and zeroed in place (see wvds/gpu_renderer.cpp).
-    const VkDeviceSize accumulatorBytes = VkDeviceSize(pixels_) * 4 * sizeof(glm::vec4);
-    if (!accumulators_ || accumulators_->size() != accumulatorBytes)
-        accumulators_ = std::make_unique<gpu::Buffer>(ctx, accumulatorBytes);
-    accumulators_->fill(0u);
-    gpuMs_ = 0.0;
+    // Per pixel and half, two vec4s (medium with the sample count in w, surface).
+    accumulation_.begin(width, height, 4);
 }
 
 void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const RenderCallbacks& callbacks) {
-    TY_CHECK(kernel_ != nullptr && accumulators_, "GpuRenderer::begin before addSamples");
-    gpu::ComputeKernel& k = *kernel_;
-    std::vector<const gpu::Buffer*> bindings;
+    TY_CHECK(kernel_ != nullptr, "GpuRenderer::begin before addSamples");
+    std::vector<const gpu::Buffer*> inputs;
     for (const auto& b : buffers_)
-        bindings.push_back(b.get());
-    bindings.push_back(accumulators_.get());
-    std::uint64_t& sliceSize = sliceSizes_.try_emplace(&k, 1024).first->second;
-    const std::uint32_t bandGroups = ((pixels_ + kGroupSize - 1) / kGroupSize + kBands - 1) / kBands;
-    try {
-        for (std::uint32_t index = first; index < end; ++index) {
-            // One dispatch covers each pixel at most once, so the read-modify-write of its accumulators never races.
-            const gpu::SliceStats stats = gpu::runSliced(
-                *context_, std::uint64_t(kBands) * bandGroups * kGroupSize,
-                [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t count) {
-                    Push push{std::uint32_t(begin), std::uint32_t(begin + count), width_, index, pixels_, bandGroups};
-                    k.record(cmd, bindings, &push, std::uint32_t((count + kGroupSize - 1) / kGroupSize));
-                    gpu::computeToComputeBarrier(cmd);
-                },
-                callbacks.cancel, 10.0, sliceSize);
-            sliceSize = stats.nextSlice;
-            gpuMs_ += stats.totalMs;
-            k.resetDescriptors();
-        }
-    } catch (...) {
-        k.resetDescriptors();
-        throw;
-    }
+        inputs.push_back(b.get());
+    accumulation_.addSamples(*kernel_, inputs, first, end, callbacks, [](const Push& slice) { return slice; });
 }
 
 const std::vector<glm::vec4>& GpuRenderer::readAccumulators() {
-    accumulators_->download(readback_, std::size_t(pixels_) * 4);
-    return readback_;
+    return accumulation_.read();
 }
 
 }  // namespace tyndall::volume_ris

@@ -1,16 +1,16 @@
 // The Volume-RIS technique on the GPU: uploads a prepared scene once, then adds camera samples to per-pixel
-// accumulators that stay on the GPU, one dispatch per sample index in slices of about 10 ms (tyndall/gpu/slicer.h), so
-// that a progressive render can be cancelled between slices and read back at every pass. As wvds/gpu_renderer.h.
+// accumulators that stay on the GPU (framework/gpu_accumulation.h), so that a progressive render can be cancelled
+// between slices and read back at every pass.
 #pragma once
 
 #include "volume_ris/prepared.h"
 
+#include "tyndall/framework/gpu_accumulation.h"
 #include "tyndall/framework/kernel_cache.h"
 #include "tyndall/framework/technique.h"
 #include "tyndall/gpu/context.h"
 #include "tyndall/gpu/resources.h"
 
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,7 +29,7 @@ public:
     // Reads the accumulators back, into storage kept from pass to pass and render to render.
     const std::vector<glm::vec4>& readAccumulators();
 
-    double gpuMs() const { return gpuMs_; }
+    double gpuMs() const { return accumulation_.gpuMs(); }
     double compileSeconds() const { return compileSeconds_; }  // of the current render's variant (0 when cached)
 
 private:
@@ -39,12 +39,9 @@ private:
     std::shared_ptr<gpu::Context> context_;
     KernelCache kernels_;                   // by variant
     gpu::ComputeKernel* kernel_ = nullptr;  // the current render's
-    std::map<const gpu::ComputeKernel*, std::uint64_t> sliceSizes_;  // per variant, as in wvds/gpu_renderer.h
-    std::vector<std::unique_ptr<gpu::Buffer>> buffers_;  // bindings 0-7
-    std::unique_ptr<gpu::Buffer> accumulators_;          // binding 8
-    std::vector<glm::vec4> readback_;
-    std::uint32_t pixels_ = 0, width_ = 0;
-    double gpuMs_ = 0.0, compileSeconds_ = 0.0;
+    std::vector<std::unique_ptr<gpu::Buffer>> buffers_;  // bindings 0-7; the accumulators are binding 8
+    GpuAccumulation accumulation_;
+    double compileSeconds_ = 0.0;
 };
 
 }  // namespace tyndall::volume_ris

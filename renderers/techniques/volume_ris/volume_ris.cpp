@@ -120,8 +120,7 @@ void addSamplesCpu(const PreparedScene& scene, int width, int height, std::vecto
 // the medium's and the surface's parts of R, G, B (their sum), for a denoiser that filters them apart.
 Image resolve(const std::vector<glm::vec4>& acc, int width, int height, long& nonFinitePixels) {
     Image image(width, height,
-                {"R", "G", "B", "variance.R", "variance.G", "variance.B", "medium.R", "medium.G", "medium.B",
-                 "surface.R", "surface.G", "surface.B"});
+                estimateChannels({"medium.R", "medium.G", "medium.B", "surface.R", "surface.G", "surface.B"}));
     long bad = 0;
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
@@ -132,19 +131,12 @@ Image resolve(const std::vector<glm::vec4>& acc, int width, int height, long& no
             const glm::vec3 sum0 = glm::vec3(h0[0]) + glm::vec3(h0[1]), sum1 = glm::vec3(h1[0]) + glm::vec3(h1[1]);
             glm::vec3 medium = n > 0.0f ? (glm::vec3(h0[0]) + glm::vec3(h1[0])) / n : glm::vec3(0.0f);
             glm::vec3 surface = n > 0.0f ? (glm::vec3(h0[1]) + glm::vec3(h1[1])) / n : glm::vec3(0.0f);
-            glm::vec3 v = medium + surface;
-            glm::vec3 variance(0.0f);
-            if (n0 > 0.0f && n1 > 0.0f) {
-                const glm::vec3 d = sum0 / n0 - sum1 / n1;
-                variance = d * d * 0.25f;
-            }
-            if (!std::isfinite(v.x + v.y + v.z + variance.x + variance.y + variance.z)) {
+            const glm::vec3 variance = n0 > 0.0f && n1 > 0.0f ? varianceOfMean(sum0 / n0, sum1 / n1) : glm::vec3(0.0f);
+            if (!writeEstimate(image, x, y, medium + surface, variance)) {
                 ++bad;
-                v = variance = medium = surface = glm::vec3(0.0f);
+                medium = surface = glm::vec3(0.0f);
             }
             for (int c = 0; c < 3; ++c) {
-                image.at(x, y, c) = v[c];
-                image.at(x, y, 3 + c) = variance[c];
                 image.at(x, y, 6 + c) = medium[c];
                 image.at(x, y, 9 + c) = surface[c];
             }

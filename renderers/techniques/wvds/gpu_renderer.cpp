@@ -2,7 +2,6 @@
 
 #include "tyndall/core/error.h"
 #include "tyndall/gpu/shader_compiler.h"
-#include "tyndall/gpu/slicer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -13,20 +12,13 @@ namespace tyndall::wvds {
 
 namespace {
 
-constexpr std::uint32_t kGroupSize = 64;
-
+// As the shader's push constants: a slice of GpuAccumulation's with the accumulators' layout in the middle.
 struct Push {
-    std::uint32_t first;  // work items, see the shader
-    std::uint32_t end;    // one past the last item of this dispatch (its groups may reach beyond: they must not add)
-    std::uint32_t width;
-    std::uint32_t index;
+    std::uint32_t first, end, width, index;
     std::uint32_t stride;
     std::uint32_t ratioLights;
-    std::uint32_t pixels;
-    std::uint32_t bandGroups;  // groups of 64 pixels in each of the kBands bands that work items take in turn
+    std::uint32_t pixels, bandGroups;
 };
-
-constexpr std::uint32_t kBands = 16;  // as in the shader
 
 std::string shaderPath() {
     return std::string(TYNDALL_SHADER_DIR) + "/wvds/wvds.comp.glsl";
@@ -34,7 +26,7 @@ std::string shaderPath() {
 
 }  // namespace
 
-GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
+GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()), accumulation_(*context_) {}
 
 gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, int planeTotal, bool box, int phaseKind,
                                         int lightCount, bool surfaces, bool grey, bool gobos) {
@@ -76,60 +68,23 @@ void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int s
     buffers_.push_back(upload(scene.lights));
     buffers_.push_back(upload(scene.surfaces.triangles));
     buffers_.push_back(upload(scene.surfaces.materials));
-    pixels_ = std::uint32_t(width) * std::uint32_t(height);
-    width_ = std::uint32_t(width);
     stride_ = std::uint32_t(stride);
     ratioLights_ = std::uint32_t(ratioLights);
-    // The accumulators stay from render to render at the same size (an edit re-renders the view at its size), zeroed
-    // in place: a fresh 8-32 MB buffer and a host array of zeros for it cost page faults, ~8 ms per 8 MB here.
-    const VkDeviceSize accumulatorBytes = VkDeviceSize(pixels_) * 2 * stride_ * sizeof(glm::vec4);
-    if (!accumulators_ || accumulators_->size() != accumulatorBytes)
-        accumulators_ = std::make_unique<gpu::Buffer>(ctx, accumulatorBytes);
-    accumulators_->fill(0u);
-    longestSliceMs_ = gpuMs_ = 0.0;
+    accumulation_.begin(width, height, 2 * std::size_t(stride));  // two halves
 }
 
 void GpuRenderer::addSamples(std::uint32_t first, std::uint32_t end, const RenderCallbacks& callbacks) {
-    TY_CHECK(kernel_ != nullptr && accumulators_, "GpuRenderer::begin before addSamples");
-    gpu::ComputeKernel& k = *kernel_;
-    std::vector<const gpu::Buffer*> bindings;
+    TY_CHECK(kernel_ != nullptr, "GpuRenderer::begin before addSamples");
+    std::vector<const gpu::Buffer*> inputs;
     for (const auto& b : buffers_)
-        bindings.push_back(b.get());
-    bindings.push_back(accumulators_.get());
-    std::uint64_t& sliceSize = sliceSizes_.try_emplace(&k, 1024).first->second;
-    const std::uint32_t bandGroups = ((pixels_ + kGroupSize - 1) / kGroupSize + kBands - 1) / kBands;
-    try {
-        for (std::uint32_t index = first; index < end; ++index) {
-            // One dispatch covers each pixel at most once, so the read-modify-write of its accumulators never races.
-            const gpu::SliceStats stats = gpu::runSliced(
-                *context_, std::uint64_t(kBands) * bandGroups * kGroupSize,
-                [&](VkCommandBuffer cmd, std::uint64_t begin, std::uint64_t count) {
-                    Push push{std::uint32_t(begin),
-                              std::uint32_t(begin + count),
-                              width_,
-                              index,
-                              stride_,
-                              ratioLights_,
-                              pixels_,
-                              bandGroups};
-                    k.record(cmd, bindings, &push, std::uint32_t((count + kGroupSize - 1) / kGroupSize));
-                    gpu::computeToComputeBarrier(cmd);
-                },
-                callbacks.cancel, 10.0, sliceSize);
-            sliceSize = stats.nextSlice;
-            longestSliceMs_ = std::max(longestSliceMs_, stats.longestMs);
-            gpuMs_ += stats.totalMs;
-            k.resetDescriptors();
-        }
-    } catch (...) {
-        k.resetDescriptors();
-        throw;
-    }
+        inputs.push_back(b.get());
+    accumulation_.addSamples(*kernel_, inputs, first, end, callbacks, [&](const GpuAccumulation::Slice& s) {
+        return Push{s.first, s.end, s.width, s.index, stride_, ratioLights_, s.pixels, s.bandGroups};
+    });
 }
 
 const std::vector<glm::vec4>& GpuRenderer::readAccumulators() {
-    accumulators_->download(readback_, std::size_t(pixels_) * 2 * stride_);
-    return readback_;
+    return accumulation_.read();
 }
 
 }  // namespace tyndall::wvds

@@ -1,16 +1,16 @@
 // The WVDS technique on the GPU: uploads a prepared scene once, then adds camera samples to per-pixel accumulators
-// that stay on the GPU, one dispatch per sample index in slices of about 10 ms (tyndall/gpu/slicer.h), so that a
-// progressive render can be cancelled between slices and read back at every pass.
+// that stay on the GPU (framework/gpu_accumulation.h), so that a progressive render can be cancelled between slices
+// and read back at every pass.
 #pragma once
 
 #include "wvds/prepared.h"
 
+#include "tyndall/framework/gpu_accumulation.h"
 #include "tyndall/framework/kernel_cache.h"
 #include "tyndall/framework/technique.h"
 #include "tyndall/gpu/context.h"
 #include "tyndall/gpu/resources.h"
 
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,8 +29,8 @@ public:
     const std::vector<glm::vec4>& readAccumulators();
 
     gpu::Context& context() { return *context_; }
-    double longestSliceMs() const { return longestSliceMs_; }
-    double gpuMs() const { return gpuMs_; }
+    double longestSliceMs() const { return accumulation_.longestSliceMs(); }
+    double gpuMs() const { return accumulation_.gpuMs(); }
     double compileSeconds() const { return compileSeconds_; }  // of the current render's variant (0 when cached)
 
 private:
@@ -42,15 +42,10 @@ private:
     std::shared_ptr<gpu::Context> context_;
     KernelCache kernels_;                   // by variant
     gpu::ComputeKernel* kernel_ = nullptr;  // the current render's
-    // Per variant, the slice size (in work items, one pixel each) its last dispatch measured: each sample of a render, and the next
-    // render of the variant, start there instead of ramping up from a small first slice again (each slice is a
-    // submission and a wait, ~0.2-0.5 ms on lavapipe; a 512 x 512 sample took 8 slices to reach its size).
-    std::map<const gpu::ComputeKernel*, std::uint64_t> sliceSizes_;
-    std::vector<std::unique_ptr<gpu::Buffer>> buffers_;  // bindings 0-6
-    std::unique_ptr<gpu::Buffer> accumulators_;          // binding 7
-    std::vector<glm::vec4> readback_;                    // its last readback
-    std::uint32_t pixels_ = 0, width_ = 0, stride_ = 1, ratioLights_ = 0;
-    double longestSliceMs_ = 0.0, gpuMs_ = 0.0, compileSeconds_ = 0.0;
+    std::vector<std::unique_ptr<gpu::Buffer>> buffers_;  // bindings 0-6; the accumulators are binding 7
+    GpuAccumulation accumulation_;
+    std::uint32_t stride_ = 1, ratioLights_ = 0;
+    double compileSeconds_ = 0.0;
 };
 
 }  // namespace tyndall::wvds

@@ -199,7 +199,7 @@ std::vector<Image> denoisedRatios(const std::vector<glm::vec4>& acc, const Layou
 
 Image resolve(const std::vector<glm::vec4>& acc, const Layout& layout, int threads, long& nonFinitePixels,
               const Image* denoiseDepth = nullptr) {
-    Image image(layout.width, layout.height, {"R", "G", "B", "variance.R", "variance.G", "variance.B"});
+    Image image(layout.width, layout.height, estimateChannels());
     std::atomic<long> nonFinite{0};
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     std::vector<Image> ratios;
@@ -214,21 +214,12 @@ Image resolve(const std::vector<glm::vec4>& acc, const Layout& layout, int threa
                     const std::size_t pixel = std::size_t(y) * layout.width + x;
                     const glm::vec4* a0 = &acc[(pixel * 2) * layout.stride];
                     const glm::vec4* a1 = &acc[(pixel * 2 + 1) * layout.stride];
-                    glm::vec3 v = pixelValue(a0, a1, layout.ratioLights, 2, ratioImages, x, y);
-                    glm::vec3 variance(0.0f);
-                    if (a0[0].w > 0.0f && a1[0].w > 0.0f) {
-                        const glm::vec3 d =
-                            pixelValue(a0, a1, layout.ratioLights, 0) - pixelValue(a0, a1, layout.ratioLights, 1);
-                        variance = d * d * 0.25f;
-                    }
-                    if (!std::isfinite(v.x + v.y + v.z + variance.x + variance.y + variance.z)) {
-                        ++bad;
-                        v = variance = glm::vec3(0.0f);
-                    }
-                    for (int c = 0; c < 3; ++c) {
-                        image.at(x, y, c) = v[c];
-                        image.at(x, y, 3 + c) = variance[c];
-                    }
+                    const glm::vec3 v = pixelValue(a0, a1, layout.ratioLights, 2, ratioImages, x, y);
+                    const glm::vec3 variance = a0[0].w > 0.0f && a1[0].w > 0.0f
+                                                   ? varianceOfMean(pixelValue(a0, a1, layout.ratioLights, 0),
+                                                                    pixelValue(a0, a1, layout.ratioLights, 1))
+                                                   : glm::vec3(0.0f);
+                    if (!writeEstimate(image, x, y, v, variance)) ++bad;
                 }
             }
             nonFinite.fetch_add(bad, std::memory_order_relaxed);
