@@ -162,19 +162,26 @@ void MainWindow::connectStudio() {
         play->setChecked(playing);
         play->setText(playing ? "&Pause" : "&Play");
     });
-    connect(&studio_.exporter(), &Exporter::finished, this, [this](bool ok, const QString& message) {
-        if (ok && message.isEmpty()) {
-            statusBar()->showMessage("Exported the comparison", 5000);
-            return;
-        }
-        // Not modal: the studio goes on rendering while the user reads it.
-        auto* box = new QMessageBox(ok ? QMessageBox::Information : QMessageBox::Critical,
-                                    ok ? "Exported, with notes" : "Cannot export", message, QMessageBox::Ok, this);
-        box->setObjectName("exportReport");
-        box->setAttribute(Qt::WA_DeleteOnClose);
-        box->setModal(false);
-        box->show();
-    });
+    connect(&studio_.exporter(), &Exporter::finished, this,
+            [this](bool ok, const QString& message, const QString& folder) {
+                if (ok && message.isEmpty()) {
+                    statusBar()->showMessage("Exported the comparison into " + folder, 8000);
+                    return;
+                }
+                if (!ok && message == "cancelled") {
+                    statusBar()->showMessage("Export cancelled: nothing was written into " + folder, 8000);
+                    return;
+                }
+                // Not modal: the studio goes on rendering while the user reads it.
+                const QString text =
+                    ok ? "Exported the comparison into " + folder + ", with these notes:\n\n" + message : message;
+                auto* box = new QMessageBox(ok ? QMessageBox::Information : QMessageBox::Critical,
+                                            ok ? "Exported, with notes" : "Cannot export", text, QMessageBox::Ok, this);
+                box->setObjectName("exportReport");
+                box->setAttribute(Qt::WA_DeleteOnClose);
+                box->setModal(false);
+                box->show();
+            });
 }
 
 void MainWindow::updateDisplay() {

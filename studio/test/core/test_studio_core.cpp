@@ -9,6 +9,9 @@
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QThread>
+
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 
@@ -307,6 +310,69 @@ private slots:
         QCOMPARE(studio.comparison().size(), n + 1);
         QCOMPARE(int(studio.session().project().views.size()), n + 1);
         QVERIFY(waitFor([&] { return studio.settled(); }));
+    }
+
+    // An image of another size than its reference (issue 33: the export stopped there, half written) is exported
+    // alone, listed with the reason in the notes and metrics.json, and every other file is written. An export that
+    // cannot start or is cancelled leaves nothing behind: no target folder, no hidden staging folder.
+    void exportsWhatItCanAndLeavesNoHalfFolder() {
+        Studio studio(kSmall);
+        studio.setRecovery(Studio::Recovery::Never);
+        studio.setViewportSize([] { return QSize(200, 150); });
+        QString error;
+        QVERIFY(studio.openProject(kDefaultProject, &error));
+        const int odd = studio.openImageView(TYNDALL_SOURCE_DIR "/tests/data/images/glow-16x12.exr", &error);
+        QVERIFY2(odd >= 0, qPrintable(error));
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+        const QString name = studio.frames()[std::size_t(odd)].name;
+        QTemporaryDir parent;
+        const QString folder = parent.filePath("export");
+        QVERIFY2(studio.exportComparison(folder, &error), qPrintable(error));
+        auto leftovers = [&] {
+            return QDir(parent.path()).entryList(QDir::Dirs | QDir::Hidden | QDir::NoDotAndDotDot);
+        };
+        QCOMPARE(leftovers(), QStringList{"export"});
+        const QString notes = studio.exportNotes().join("\n");
+        QVERIFY2(notes.contains(name + ": not exported: the difference") && notes.contains("differs"),
+                 qPrintable(notes));
+        QVERIFY(QFile::exists(folder + "/" + name + ".exr"));
+        QVERIFY(!QFile::exists(folder + "/" + name + "-diff.png"));
+        for (const char* file : {"metrics.json", "metrics.csv", "display.json", "viewport.png"})
+            QVERIFY2(QFile::exists(folder + "/" + file), file);
+        for (const ViewFrame& f : studio.frames())
+            if (f.name != name) QVERIFY2(QFile::exists(folder + "/" + f.name + "-diff.png"), qPrintable(f.name));
+        QFile json(folder + "/metrics.json");
+        QVERIFY(json.open(QIODevice::ReadOnly));
+        const nlohmann::json metrics = nlohmann::json::parse(json.readAll().toStdString());
+        QCOMPARE(int(metrics.size()), int(studio.frames().size()));
+        const nlohmann::json& entry = metrics[std::size_t(odd)];
+        QVERIFY2(entry.contains("notExported") && !entry.contains("relMSE"), entry.dump().c_str());
+        QVERIFY(metrics[0].contains("relMSE") && !metrics[0].contains("notExported"));
+
+        // A target that is a file: refused before anything is written.
+        QFile blocker(parent.filePath("a-file"));
+        QVERIFY(blocker.open(QIODevice::WriteOnly));
+        blocker.close();
+        QVERIFY(!studio.exportComparison(blocker.fileName(), &error));
+        QVERIFY2(error.startsWith("Nothing was exported") && error.contains("is a file"), qPrintable(error));
+        QCOMPARE(leftovers(), QStringList{"export"});
+
+        // Cancelled before its first file (the pool's two threads held until the cancel): nothing is left.
+        std::atomic<bool> hold{true};
+        for (int i = 0; i < 2; ++i)
+            studio.background().run([&hold] {
+                while (hold)
+                    QThread::msleep(5);
+            });
+        QSignalSpy finished(&studio.exporter(), &Exporter::finished);
+        studio.startExport(parent.filePath("cancelled"));
+        studio.exporter().cancel();
+        hold = false;
+        QVERIFY(waitFor([&] { return finished.count() == 1; }));
+        QCOMPARE(finished[0][0].toBool(), false);
+        QCOMPARE(finished[0][1].toString(), QString("cancelled"));
+        QCOMPARE(leftovers(), QStringList{"export"});
+        studio.waitForBackgroundWork();
     }
 
     // A project that does not open keeps the current one, says why, and its renders go on.

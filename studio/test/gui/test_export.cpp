@@ -35,6 +35,8 @@ private slots:
                                              readImage((stem + "-reference.exr").toStdString()), f.exposure);
             QVERIFY2(std::abs(metrics[i]["relMSE"].get<double>() - m.relMSE) <= 1e-6 * m.relMSE, qPrintable(f.name));
         }
+        // The region's metrics beside the whole image's (they were in the dock only).
+        QVERIFY2(metrics[1].contains("region") && metrics[1]["region"]["width"] == 40, metrics[1].dump().c_str());
         const QImage viewport(folder + "/viewport.png");
         QCOMPARE(viewport.size(), window_->studio().composedFrame().size());
         QVERIFY(QFile::exists(folder + "/metrics.csv"));
