@@ -4,7 +4,11 @@
 
 #include "tyndall/techniques/registry.h"
 
+#include <QAbstractSlider>
+#include <QAbstractSpinBox>
 #include <QComboBox>
+#include <QCoreApplication>
+#include <QEvent>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QInputDialog>
@@ -15,6 +19,7 @@
 #include <QMessageBox>
 #include <QPushButton>
 #include <QScrollArea>
+#include <QScrollBar>
 #include <QSignalBlocker>
 #include <QTableWidget>
 #include <QVBoxLayout>
@@ -333,6 +338,38 @@ SceneDock::SceneDock(Studio& studio, QWidget* parent)
     setObjectName("sceneDock");
     panel_->setAnimation(&studio.animation());
     setWidget(panel_);
+}
+
+bool DockWheelGuard::guarded(QObject* object) {
+    auto* widget = qobject_cast<QWidget*>(object);
+    if (!widget || qobject_cast<QScrollBar*>(widget)) return false;
+    if (!qobject_cast<QAbstractSpinBox*>(widget) && !qobject_cast<QComboBox*>(widget) &&
+        !qobject_cast<QAbstractSlider*>(widget))
+        return false;
+    for (QWidget* w = widget->parentWidget(); w; w = w->parentWidget())
+        if (qobject_cast<QDockWidget*>(w)) return true;
+    return false;
+}
+
+void DockWheelGuard::guard(QWidget* root) {
+    for (QWidget* w : root->findChildren<QWidget*>())
+        if (guarded(w) && w->focusPolicy() == Qt::WheelFocus) w->setFocusPolicy(Qt::StrongFocus);
+}
+
+bool DockWheelGuard::eventFilter(QObject* watched, QEvent* event) {
+    if (event->type() == QEvent::Polish && guarded(watched)) {
+        // Not focused by the wheel itself (Qt::WheelFocus would give it the focus, then the value).
+        auto* widget = static_cast<QWidget*>(watched);
+        if (widget->focusPolicy() == Qt::WheelFocus) widget->setFocusPolicy(Qt::StrongFocus);
+    } else if (event->type() == QEvent::Wheel && guarded(watched)) {
+        auto* widget = static_cast<QWidget*>(watched);
+        if (!widget->hasFocus()) {
+            // To the field's parent instead, and so on up to the dock's scroll area, which scrolls.
+            if (QWidget* parent = widget->parentWidget()) QCoreApplication::sendEvent(parent, event);
+            return true;
+        }
+    }
+    return QObject::eventFilter(watched, event);
 }
 
 }  // namespace tyndall::studio

@@ -27,6 +27,19 @@ namespace tyndall::studio {
 class ParameterPanel;
 class ScenePanel;
 
+// The mouse wheel scrolls a dock; it changes a spin box, combo box or slider in a dock only when that field has the
+// keyboard focus (a click or Tab first). Wheeling down a scrolling Scene dock changed the phase function and a
+// simulation's step count under the pointer, an undo step each. Installed on the application once by the window, so
+// that panels rebuilt later are covered too.
+class DockWheelGuard final : public QObject {
+public:
+    using QObject::QObject;
+    bool eventFilter(QObject* watched, QEvent* event) override;
+    // The fields that exist already (later ones are taken care of when they are polished).
+    static void guard(QWidget* root);
+    static bool guarded(QObject* object);  // a spin box, combo box or slider in a dock
+};
+
 class ViewsDock final : public QDockWidget {
     Q_OBJECT
 public:

@@ -46,6 +46,8 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
       plots_(new PlotsDock(studio_, this)),
       scene_(new SceneDock(studio_, this)) {
     viewport_->setVulkanInstance(vulkan);
+    QCoreApplication::instance()->installEventFilter(new DockWheelGuard(this));
+    DockWheelGuard::guard(this);
     QWidget* container = QWidget::createWindowContainer(viewport_, this);
     container->setMinimumSize(320, 240);
     container->setFocusPolicy(Qt::StrongFocus);

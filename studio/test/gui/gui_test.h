@@ -15,6 +15,8 @@
 #include "tyndall/techniques/registry.h"
 
 #include <qcustomplot.h>
+#include <QAbstractSlider>
+#include <QAbstractSpinBox>
 #include <QAction>
 #include <QApplication>
 #include <QCheckBox>
@@ -38,6 +40,7 @@
 #include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
+#include <QSpinBox>
 #include <QStandardPaths>
 #include <QStatusBar>
 #include <QTabWidget>
@@ -49,6 +52,7 @@
 #include <QUndoStack>
 #include <QUrl>
 #include <QVulkanInstance>
+#include <QWheelEvent>
 
 #include <nlohmann/json.hpp>
 

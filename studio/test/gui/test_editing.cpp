@@ -308,6 +308,61 @@ private slots:
         QCOMPARE(window_->studio().frames()[3].state, state);
         QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 120000);
     }
+
+    // The wheel over a field of the Parameters or Scene dock without focus scrolls the dock and changes nothing
+    // (issue 33: wheeling down the Scene dock changed a phase function, an undo step each); with focus it edits.
+    void theWheelChangesNoFieldWithoutFocus() {
+        auto valueOf = [](QWidget* w) -> QString {
+            if (auto* spin = qobject_cast<QAbstractSpinBox*>(w)) return spin->text();
+            if (auto* combo = qobject_cast<QComboBox*>(w)) return combo->currentText();
+            return QString::number(static_cast<QAbstractSlider*>(w)->value());
+        };
+        auto wheel = [](QWidget* w, int delta) {
+            const QPointF at(w->width() / 2.0, w->height() / 2.0);
+            QWheelEvent event(at, w->mapToGlobal(at), QPoint(), QPoint(0, delta), Qt::NoButton, Qt::NoModifier,
+                              Qt::NoScrollPhase, false);
+            QApplication::sendEvent(w, &event);
+        };
+        QUndoStack* undo = window_->studio().session().undoStack();
+        const int steps = undo->index();
+        int fields = 0;
+        QPointer<QWidget> focusable;  // of the last view (the Parameters dock is rebuilt for each)
+        for (int view = 0; view < int(window_->studio().frames().size()); ++view) {
+            window_->studio().selectView(view);
+            QApplication::processEvents();
+            window_->viewport()->requestActivate();
+            focusable = nullptr;
+            for (QWidget* w : window_->findChildren<QWidget*>()) {
+                if (!DockWheelGuard::guarded(w) || !w->isVisible() || !w->isEnabled()) continue;
+                QVERIFY2(w->focusPolicy() != Qt::WheelFocus, qPrintable(w->objectName()));  // the wheel gives no focus
+                w->clearFocus();
+                const QString before = valueOf(w);
+                wheel(w, -120);
+                wheel(w, 120);
+                wheel(w, -120);
+                QCOMPARE(valueOf(w), before);
+                ++fields;
+                auto* real = qobject_cast<QDoubleSpinBox*>(w);
+                auto* whole = qobject_cast<QSpinBox*>(w);
+                if (!focusable &&
+                    ((real && real->value() < real->maximum()) || (whole && whole->value() < whole->maximum())))
+                    focusable = w;
+            }
+            QCOMPARE(undo->index(), steps);
+        }
+        QVERIFY2(fields >= 20, qPrintable(QString::number(fields)));  // spin boxes and combos of both docks
+        QVERIFY(focusable);
+        window_->activateWindow();
+        focusable->setFocus();
+        QTRY_VERIFY(focusable->hasFocus());
+        const QString before = valueOf(focusable);
+        wheel(focusable, 120);
+        QVERIFY2(valueOf(focusable) != before,
+                 qPrintable(focusable->objectName() + " " + before + " " + focusable->metaObject()->className()));
+        QCOMPARE(undo->index(), steps + 1);
+        undo->undo();
+        QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 120000);
+    }
 };
 
 QObject* makeEditingTest(QVulkanInstance* vulkan) {
