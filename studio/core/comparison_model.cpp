@@ -39,6 +39,55 @@ void ComparisonModel::reset(const std::vector<ViewInfo>& views) {
     emit convergenceChanged();
 }
 
+void ComparisonModel::followViews(const std::vector<ViewInfo>& views, const std::vector<int>& oldOf) {
+    const int before = projectViews_;
+    std::vector<int> newOf(std::size_t(size()), -1);  // per old view, its new index (-1: gone)
+    for (std::size_t i = 0; i < views.size(); ++i)
+        if (oldOf[i] >= 0 && oldOf[i] < before) newOf[std::size_t(oldOf[i])] = int(i);
+    for (std::size_t k = 0; k < images_.size(); ++k)
+        newOf[std::size_t(before) + k] = int(views.size() + k);
+
+    std::vector<ViewFrame> frames(views.size() + images_.size());
+    std::vector<std::vector<Progress>> progress(frames.size());
+    std::vector<quint64> latest(frames.size(), 0);
+    for (std::size_t o = 0; o < newOf.size(); ++o) {
+        if (newOf[o] < 0) continue;
+        const std::size_t i = std::size_t(newOf[o]);
+        frames[i] = std::move(frames_[o]);
+        progress[i] = std::move(progress_[o]);
+        latest[i] = latestMetrics_[o];
+    }
+    for (std::size_t i = 0; i < views.size(); ++i) {
+        ViewFrame& f = frames[i];
+        f.name = views[i].name;
+        f.technique = views[i].technique;
+        f.exposure = views[i].exposure;
+        f.state = views[i].state;
+    }
+    frames_ = std::move(frames);
+    progress_ = std::move(progress);
+    latestMetrics_ = std::move(latest);
+    projectViews_ = int(views.size());
+    for (ImageView& image : images_) {
+        const int against = image.against < int(newOf.size()) ? newOf[std::size_t(image.against)] : -1;
+        image.against = std::clamp(against, 0, std::max(0, projectViews_ - 1));
+    }
+    referenceView_ =
+        referenceView_ >= 0 && referenceView_ < int(newOf.size()) ? newOf[std::size_t(referenceView_)] : -1;
+    syncImages();
+    refreshAlternates();
+    for (std::size_t i = 0; i < views.size(); ++i)
+        if (oldOf[i] < 0) updateMetrics(int(i));
+    emit metricsChanged();
+    emit convergenceChanged();
+    emit framesChanged();
+}
+
+int ComparisonModel::viewOfMetrics(quint64 request) const {
+    const auto it = std::find(latestMetrics_.begin(), latestMetrics_.end(), request);
+    return it == latestMetrics_.end() ? -1 : int(it - latestMetrics_.begin());
+}
+
 void ComparisonModel::setState(int view, quint64 state) {
     if (view < 0 || view >= projectViews_ || frames_[std::size_t(view)].state == state) return;
     frames_[std::size_t(view)].state = state;
@@ -114,7 +163,7 @@ void ComparisonModel::syncImages() {
         f.referenceRendering = a && a->referenceRendering;
         f.referenceTargetSpp = a ? a->referenceTargetSpp : 0;
         f.referenceEta = a ? a->referenceEta : -1.0;
-        if (f.reference && f.referenceState == f.imageState) {
+        if (f.reference && f.referenceState == f.imageState && referenceComparable(f)) {
             f.pairImage = f.image;
             f.pairReference = f.reference;
         } else if (!a) {
@@ -180,7 +229,7 @@ void ComparisonModel::addOutput(const RenderOutput& out) {
     }
     if (out.final) (out.reference ? f.referenceRendering : f.rendering) = false;
     if (out.reference) syncImages();
-    if (f.image && f.reference && f.imageState == f.referenceState) {
+    if (f.image && f.reference && f.imageState == f.referenceState && referenceComparable(f)) {
         f.pairImage = f.image;  // the newest pair of one state: what comparisons use while the other catches up
         f.pairReference = f.reference;
     }
@@ -242,18 +291,24 @@ void ComparisonModel::refreshAlternates() {
 void ComparisonModel::updateMetrics(int view) {
     // Off the GUI thread (a 512 x 512 comparison takes ~100 ms with the renders on both cores).
     ViewFrame& f = frames_[std::size_t(view)];
-    f.metrics.reset();
-    f.regionMetrics.reset();
     const ComparisonPair pair = comparisonPair(f);
     f.metricsStale = pair.stale;
     const std::shared_ptr<const Image> image = pair.image, against = pair.against;
-    if (!image || !against || image->width() != against->width() || image->height() != against->height()) return;
+    if (!image || !against || image->width() != against->width() || image->height() != against->height()) {
+        f.metrics.reset();
+        f.regionMetrics.reset();
+        f.metricsImage.reset();
+        f.metricsAgainst.reset();
+        latestMetrics_[std::size_t(view)] = 0;
+        return;
+    }
+    // The numbers shown stay until the new pair's arrive: no flicker of "waiting" at every progressive image.
     const double exposure = f.exposure;
     const QRect region = region_.intersected(QRect(0, 0, image->width(), image->height()));
     ++metricsPending_;
     const quint64 request = ++metricsRequests_;
     latestMetrics_[std::size_t(view)] = request;
-    background_.run([this, view, image, against, exposure, region, request] {
+    background_.run([this, image, against, exposure, region, request] {
         std::optional<Metrics> whole, part;
         try {
             whole = computeMetrics(*image, *against, exposure);
@@ -262,20 +317,26 @@ void ComparisonModel::updateMetrics(int view) {
         } catch (const std::exception&) {
             // Images that cannot be compared (a channel missing) show no numbers.
         }
-        QMetaObject::invokeMethod(this, [this, view, image, against, whole, part, request] {
-            --metricsPending_;
-            if (view >= size()) return;
-            // Stale: a later request for this view (a new image, reference, exposure or region) may finish first, in
-            // the pool's order, and must not be overwritten by this one.
-            if (latestMetrics_[std::size_t(view)] != request) return;
-            ViewFrame& f = frames_[std::size_t(view)];
-            const ComparisonPair now = comparisonPair(f);
-            if (now.image != image || now.against != against) return;
-            f.metrics = whole;
-            f.regionMetrics = part;
-            emit metricsChanged();
-            emit framesChanged();
-        }, Qt::QueuedConnection);
+        QMetaObject::invokeMethod(
+            this,
+            [this, image, against, whole, part, request] {
+                --metricsPending_;
+                // The view that asked (it may have moved since: views authored before it). Stale: a later request for
+                // it (a new image, reference, exposure or region) may finish first, in the pool's order, and must not
+                // be overwritten by this one.
+                const int view = viewOfMetrics(request);
+                if (view < 0) return;
+                ViewFrame& f = frames_[std::size_t(view)];
+                const ComparisonPair now = comparisonPair(f);
+                if (now.image != image || now.against != against) return;
+                f.metrics = whole;
+                f.regionMetrics = part;
+                f.metricsImage = image;
+                f.metricsAgainst = against;
+                emit metricsChanged();
+                emit framesChanged();
+            },
+            Qt::QueuedConnection);
     });
 }
 
@@ -287,7 +348,6 @@ void ComparisonModel::updateConvergence() {
     // The relMSE of each progressive image against its view's comparand, without tonemapping. A new reference makes
     // every image of its view stale, and each costs ~4 ms at 512 x 512: computed in the background pool.
     struct Item {
-        std::size_t view, index;
         std::shared_ptr<const Image> image, reference;
         bool alternate = false;
         double relMSE = 0.0;
@@ -300,11 +360,12 @@ void ComparisonModel::updateConvergence() {
         if (!reference) continue;
         for (std::size_t k = 0; k < progress_[i].size(); ++k) {
             Progress& p = progress_[i][k];
-            if (!alternate && p.state != frames_[i].referenceState) continue;  // only images of one state compare
+            // Only images of one state compare, and only with a reference of enough samples.
+            if (!alternate && (p.state != frames_[i].referenceState || !referenceComparable(frames_[i]))) continue;
             if (p.image->width() != reference->width() || p.image->height() != reference->height()) continue;
             if (p.against == reference || p.requested == reference) continue;
             p.requested = reference;
-            items.push_back({i, k, p.image, reference, alternate});
+            items.push_back({p.image, reference, alternate});
         }
     }
     emit convergenceChanged();
@@ -325,10 +386,14 @@ void ComparisonModel::updateConvergence() {
         QMetaObject::invokeMethod(this, [this, items = std::move(items)] {
             --convergencePending_;
             for (const Item& item : items) {
-                // The view may have started a new render (its images cleared) since the job was made.
-                if (item.view >= progress_.size() || item.index >= progress_[item.view].size()) continue;
-                Progress& p = progress_[item.view][item.index];
-                if (p.image != item.image) continue;
+                // The view may have started a new render (its images cleared) or moved (views authored before it)
+                // since the job was made: the point is found by its image.
+                Progress* point = nullptr;
+                for (auto& points : progress_)
+                    for (Progress& p : points)
+                        if (p.image == item.image) point = &p;
+                if (!point) continue;
+                Progress& p = *point;
                 p.relMSE = item.relMSE;
                 p.against = item.reference;
                 p.againstAlternate = item.alternate;
@@ -353,23 +418,6 @@ void ComparisonModel::convergenceSeries(std::vector<QString>& names,
             if (p.relMSE >= 0.0 && valid) points.back().push_back({p.spp, p.seconds, p.relMSE});
         }
     }
-}
-
-QString ComparisonModel::status() const {
-    QStringList references;
-    int stale = 0;
-    for (const ViewFrame& f : frames_) {
-        if (f.referenceRendering) references << f.name + ": " + referenceProgress(f);
-        stale += f.metricsStale;
-    }
-    QString text = references.isEmpty() ? QString("Ready") : references.join("; ");
-    if (stale > 0)
-        text += QString(" | %1 comparison%2 stale (the last matching pair) until %3 reference%2 %4")
-                    .arg(stale)
-                    .arg(stale > 1 ? "s" : "")
-                    .arg(stale > 1 ? "their" : "its")
-                    .arg(stale > 1 ? "arrive" : "arrives");
-    return text;
 }
 
 }  // namespace tyndall::studio

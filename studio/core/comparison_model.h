@@ -39,6 +39,9 @@ public:
     };
     // The project's views (index 0 .. n-1) start again; the images opened from files stay, after them.
     void reset(const std::vector<ViewInfo>& views);
+    // The project's views after an authoring: view i was view oldOf[i] before (-1: new), and keeps its images,
+    // references, metrics, convergence points and the user's choices that name it; the images opened from files stay.
+    void followViews(const std::vector<ViewInfo>& views, const std::vector<int>& oldOf);
     const std::vector<ViewFrame>& frames() const { return frames_; }
     int size() const { return int(frames_.size()); }
 
@@ -74,8 +77,6 @@ public:
     static int convergenceBucket(int spp);
     // The relMSE over spp and seconds of each view's progressive images against its comparand.
     void convergenceSeries(std::vector<QString>& names, std::vector<std::vector<ConvergencePoint>>& points) const;
-    // The references that render: "view: 24/64 spp, ETA 10 s; ..." or "Ready", and how many comparisons are stale.
-    QString status() const;
     // No metrics or relMSE job is in flight.
     bool idle() const { return metricsPending_ == 0 && convergencePending_ == 0; }
 
@@ -86,6 +87,7 @@ signals:
 
 private:
     void updateMetrics(int view);
+    int viewOfMetrics(quint64 request) const;  // the view whose latest metrics job it is; -1: none
     void updateConvergence();
     void refreshAlternates();
     void syncImages();  // the image views' references, states and pairs from their project views

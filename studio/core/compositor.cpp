@@ -305,8 +305,15 @@ ComparisonPair comparisonPair(const ViewFrame& frame) {
     return referencePair(frame);
 }
 
+bool referenceComparable(const ViewFrame& frame) {
+    if (!frame.reference) return false;
+    if (!frame.referenceRendering || frame.file) return true;
+    const int target = frame.referenceTargetSpp > 0 ? frame.referenceTargetSpp : kMinComparedReferenceSpp;
+    return frame.referenceSpp >= std::min(kMinComparedReferenceSpp, target);
+}
+
 ComparisonPair referencePair(const ViewFrame& frame) {
-    if (frame.image && frame.reference && frame.imageState == frame.referenceState)
+    if (frame.image && frame.reference && frame.imageState == frame.referenceState && referenceComparable(frame))
         return {frame.image, frame.reference, false};
     return {frame.pairImage, frame.pairReference, bool(frame.pairImage)};
 }

@@ -45,6 +45,9 @@ struct ViewFrame {
     bool rendering = false;                   // a newer render is on its way
     std::optional<Metrics> metrics;           // against the reference, when both exist at the same size
     std::optional<Metrics> regionMetrics;     // the same over the user's region
+    // The pair `metrics` were computed of: until a new pair's metrics arrive (~100 ms), the last ones stay shown
+    // rather than a flicker of "waiting".
+    std::shared_ptr<const Image> metricsImage, metricsAgainst;
     std::shared_ptr<const Image> snapshot;    // the snapshot this view is compared against (null: the reference)
     QString snapshotName;
     std::shared_ptr<const Image> alternate;   // another view's image chosen as the reference (Shift+1-9)
@@ -77,6 +80,12 @@ const std::shared_ptr<const Image>& comparand(const ViewFrame& frame);
 // The two images the view's comparisons (metrics, difference, convergence, export) are made of. Against the reference:
 // the image and reference of one state (stale when they are not the current ones; both null, "waiting", before the
 // first such pair). Against a snapshot or another view: the image and the user's choice.
+// A reference is compared with once it has this many samples (or all it renders, when that is fewer), or is done: a
+// reference of 1-4 spp is noise, its numbers meaningless, and its variance (the "ref. noise" of the metrics) cannot
+// be estimated from so few samples. Until then the view keeps comparing the last pair that qualified, marked stale.
+constexpr int kMinComparedReferenceSpp = 16;
+bool referenceComparable(const ViewFrame& frame);
+
 struct ComparisonPair {
     std::shared_ptr<const Image> image, against;
     bool stale = false;

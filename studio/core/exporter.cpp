@@ -139,11 +139,11 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
             m["stale"] = pair.stale;
             if (pair.stale) report->notes << f.name + ": the last image and reference of one state (stale)";
         }
-        // The metrics of the exported pair: the model's when they are of that pair, else computed with the files (they
-        // were left out while the model's were in flight, or while the view was compared with a snapshot).
+        // The metrics of the exported pair: the model's when they are of that pair, else computed with the files (the
+        // model's new ones were in flight).
         if (against) {
             std::optional<Metrics> known;
-            if (f.metrics && !f.snapshot && !f.alternate) known = f.metrics;
+            if (f.metrics && f.metricsImage == image && f.metricsAgainst == against) known = f.metrics;
             rows.push_back({entry, image, against, own, known});
         }
         metrics.push_back(m);

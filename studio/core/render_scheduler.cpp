@@ -22,6 +22,10 @@ namespace {
 
 // References restart this long after the last edit of their part.
 constexpr int kDebounceMs = 300;
+// A view's render in flight is let finish for a newer state (a drag then shows an image at the rate the technique
+// renders) only while it is shorter than this: a longer one is cancelled, so that a typed value that is slow to
+// render (LTSD nodes = 1 in 2.7 s) does not hold back the value that replaced it.
+constexpr qint64 kSupersedeMs = 1000;
 
 // What a view's render depends on in the scene: the camera, the surfaces and its part's lights and media, as JSON.
 // `j` is projectToJson(project), made once for all the views of an edit (a drag edits the scene at every step).
@@ -98,11 +102,17 @@ void RenderScheduler::reset() {
     partKeys_.clear();
     viewKeys_.clear();
     states_.clear();
+    ids_.clear();
+    techniques_.clear();
+    names_.clear();
     const nlohmann::json json = projectToJson(project);
     for (const View& v : project.views) {
         partKeys_.push_back(partKeyOf(json, project, v));
         viewKeys_.push_back(viewKeyOf(v));
         states_.push_back(stateOfKey(partKeys_.back()));
+        ids_.push_back(nextId_++);
+        techniques_.push_back(v.technique);
+        names_.push_back(v.name);
     }
     generation_.assign(n, 0);
     referenceGeneration_.assign(n, 0);
@@ -110,9 +120,105 @@ void RenderScheduler::reset() {
     referencePending_.assign(n, false);
     progressive_.assign(n, false);
     shownState_.assign(n, 0);
+    submitted_.assign(n, QElapsedTimer());
+    lastSeconds_.assign(n, -1.0);
     dirtyViews_.clear();
     dirtyParts_.clear();
     debounce_.stop();
+}
+
+std::vector<int> RenderScheduler::followViews() {
+    const Project& project = session_.project();
+    const std::size_t n = project.views.size();
+    const nlohmann::json json = projectToJson(project);
+    std::vector<std::string> partKeys, viewKeys;
+    for (const View& v : project.views) {
+        partKeys.push_back(partKeyOf(json, project, v));
+        viewKeys.push_back(viewKeyOf(v));
+    }
+    // Which view each one was: the same name with the same renders first, then one renamed (the first unclaimed
+    // view with the same technique, part and parameters; a duplicate renders anew, its original keeps the name).
+    std::vector<int> oldOf(n, -1);
+    std::vector<bool> claimed(ids_.size(), false);
+    auto same = [&](std::size_t i, std::size_t o) {
+        return techniques_[o] == project.views[i].technique && partKeys_[o] == partKeys[i] &&
+               viewKeys_[o] == viewKeys[i];
+    };
+    const std::vector<std::string>& oldNames = names_;
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t o = 0; o < ids_.size(); ++o)
+            if (!claimed[o] && o < oldNames.size() && oldNames[o] == project.views[i].name && same(i, o)) {
+                oldOf[i] = int(o);
+                claimed[o] = true;
+                break;
+            }
+    for (std::size_t i = 0; i < n; ++i) {
+        if (oldOf[i] >= 0) continue;
+        bool nameTaken = false;  // a view of this name is still there: this one is its copy, not its new name
+        for (std::size_t o = 0; o < oldNames.size(); ++o)
+            nameTaken |= oldNames[o] == project.views[i].name;
+        for (std::size_t o = 0; o < ids_.size() && !nameTaken; ++o) {
+            bool stays = false;  // a view that keeps its name was not renamed
+            for (const View& v : project.views)
+                stays |= o < oldNames.size() && v.name == oldNames[o];
+            if (!claimed[o] && !stays && same(i, o)) {
+                oldOf[i] = int(o);
+                claimed[o] = true;
+                break;
+            }
+        }
+    }
+    // The views that are gone: their renders stop.
+    for (std::size_t o = 0; o < ids_.size(); ++o)
+        if (!claimed[o]) service_->cancelView(ids_[o]);
+
+    auto follow = [&](auto& values, auto fresh) {
+        std::remove_reference_t<decltype(values)> next;
+        for (std::size_t i = 0; i < n; ++i)
+            next.push_back(oldOf[i] >= 0 ? values[std::size_t(oldOf[i])] : fresh);
+        values = std::move(next);
+    };
+    follow(generation_, quint64(0));
+    follow(referenceGeneration_, quint64(0));
+    follow(pending_, false);
+    follow(referencePending_, false);
+    follow(progressive_, false);
+    follow(shownState_, quint64(0));
+    follow(submitted_, QElapsedTimer());
+    follow(lastSeconds_, -1.0);
+    follow(ids_, -1);
+    std::set<int> dirtyViews, dirtyParts;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (ids_[i] < 0) ids_[i] = nextId_++;
+        if (oldOf[i] >= 0 && dirtyViews_.count(oldOf[i])) dirtyViews.insert(int(i));
+        if (oldOf[i] >= 0 && dirtyParts_.count(oldOf[i])) dirtyParts.insert(int(i));
+    }
+    dirtyViews_ = std::move(dirtyViews);
+    dirtyParts_ = std::move(dirtyParts);
+    partKeys_ = std::move(partKeys);
+    viewKeys_ = std::move(viewKeys);
+    states_.clear();
+    techniques_.clear();
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < n; ++i) {
+        states_.push_back(stateOfKey(partKeys_[i]));
+        techniques_.push_back(project.views[i].technique);
+        names.push_back(project.views[i].name);
+    }
+    names_ = std::move(names);
+    viewsKey_ = viewsKey();
+    return oldOf;
+}
+
+int RenderScheduler::indexOfId(int id) const {
+    const auto it = std::find(ids_.begin(), ids_.end(), id);
+    return it == ids_.end() ? -1 : int(it - ids_.begin());
+}
+
+void RenderScheduler::renderView(int view) {
+    if (view < 0 || view >= int(states_.size())) return;
+    render(view, false);
+    render(view, true);
 }
 
 void RenderScheduler::renderAll() {
@@ -157,7 +263,7 @@ void RenderScheduler::render(int view, bool reference) {
     const Project& project = session_.project();
     const View& v = project.views[std::size_t(view)];
     RenderTask task;
-    task.view = view;
+    task.view = ids_[std::size_t(view)];
     task.reference = reference;
     // The path tracer as a view, or any technique that sent progressive images, may render for minutes.
     task.slow = !reference && (progressive_[std::size_t(view)] || v.technique == "reference");
@@ -182,6 +288,7 @@ void RenderScheduler::render(int view, bool reference) {
     emit started(view, reference, task.job->request.spp);
     if (!reference) {
         trace("view %d: job made", view);
+        submitted_[std::size_t(view)].start();
         service_->submit(std::move(task));
         return;
     }
@@ -191,7 +298,7 @@ void RenderScheduler::render(int view, bool reference) {
     if (QFile::exists(cached)) {
         // Read in the background (an EXR of 512 x 512 takes ~10 ms, more while renders run); an unreadable file is
         // removed and the reference rendered after all.
-        service_->cancelReference(view);
+        service_->cancelReference(task.view);
         background_.run([this, task, cached] {
             RenderOutput out;
             out.view = task.view;
@@ -206,11 +313,14 @@ void RenderScheduler::render(int view, bool reference) {
                 out.cached = true;
             } catch (const std::exception&) {
                 QFile::remove(cached);
-                QMetaObject::invokeMethod(this, [this, task] {
-                    if (std::size_t(task.view) < referenceGeneration_.size() &&
-                        task.generation == referenceGeneration_[std::size_t(task.view)])
-                        service_->submit(task);
-                }, Qt::QueuedConnection);
+                QMetaObject::invokeMethod(
+                    this,
+                    [this, task] {
+                        const int index = indexOfId(task.view);
+                        if (index >= 0 && task.generation == referenceGeneration_[std::size_t(index)])
+                            service_->submit(task);
+                    },
+                    Qt::QueuedConnection);
                 return;
             }
             QMetaObject::invokeMethod(this, [this, out] { onOutput(out); }, Qt::QueuedConnection);
@@ -249,15 +359,23 @@ void RenderScheduler::flushDirty() {
             render(view, false);
         }
     }
+    qint64 recheck = -1;  // when the oldest render let finish reaches kSupersedeMs
     for (auto it = dirtyViews_.begin(); it != dirtyViews_.end();) {
-        if (pending_[std::size_t(*it)]) {
-            ++it;
-            continue;
+        const std::size_t v = std::size_t(*it);
+        if (pending_[v]) {
+            const qint64 ran = submitted_[v].isValid() ? submitted_[v].elapsed() : 0;
+            const bool slow = lastSeconds_[v] * 1e3 >= double(kSupersedeMs) || ran >= kSupersedeMs;
+            if (!slow) {
+                recheck = recheck < 0 ? kSupersedeMs - ran : std::min(recheck, kSupersedeMs - ran);
+                ++it;
+                continue;
+            }
         }
         const int view = *it;
         it = dirtyViews_.erase(it);
-        render(view, false);
+        render(view, false);  // replaces the render in flight, if any
     }
+    if (recheck >= 0) QTimer::singleShot(int(std::max<qint64>(recheck, 1)), this, [this] { flushDirty(); });
 }
 
 bool RenderScheduler::settled() const {
@@ -266,6 +384,12 @@ bool RenderScheduler::settled() const {
     for (bool p : referencePending_)
         if (p) return false;
     return service_->idle() && dirtyViews_.empty() && dirtyParts_.empty() && !debounce_.isActive();
+}
+
+bool RenderScheduler::busy(int view, bool reference) const {
+    if (view < 0 || view >= int(pending_.size())) return false;
+    if (reference) return referencePending_[std::size_t(view)] || dirtyParts_.count(view);
+    return pending_[std::size_t(view)] || dirtyViews_.count(view);
 }
 
 bool RenderScheduler::viewsCaughtUp() const {
@@ -279,9 +403,12 @@ bool RenderScheduler::viewsCaughtUp() const {
     return true;
 }
 
-void RenderScheduler::onOutput(const RenderOutput& out) {
+void RenderScheduler::onOutput(const RenderOutput& task) {
+    // The task carries its view's id; the view may have moved (views added or removed before it) or be gone.
+    RenderOutput out = task;
+    out.view = indexOfId(task.view);
     trace("%s %d: image received (%d spp)", out.reference ? "reference" : "view", out.view, out.spp);
-    if (out.view < 0 || out.view >= int(pending_.size())) return;
+    if (out.view < 0) return;
     const std::vector<quint64>& generations = out.reference ? referenceGeneration_ : generation_;
     if (out.generation != generations[std::size_t(out.view)]) return;  // stale: a newer render is on its way
     const std::size_t v = std::size_t(out.view);
@@ -304,6 +431,7 @@ void RenderScheduler::onOutput(const RenderOutput& out) {
     }
     if (out.reference && out.final) cachePathOf_.erase(out.generation);
     if (out.final) (out.reference ? referencePending_ : pending_)[v] = false;
+    if (!out.reference && out.final && out.image) lastSeconds_[v] = out.seconds;
     emit output(out);
     if (!out.reference && out.final && dirtyViews_.count(out.view)) QTimer::singleShot(0, this, [this] { flushDirty(); });
 }

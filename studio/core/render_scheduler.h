@@ -3,16 +3,19 @@
 // Each view's render depends on its part of the scene (the camera, the surfaces, its lights and media, the reference
 // settings): the part key, hashed into the part's state. A view's own edit (parameters, exposure) re-renders the view
 // alone, at once when it is not rendering and otherwise when its render in flight is done, so that a drag shows a new
-// image at the rate the technique renders and the last state always renders. An edit of a part re-renders the views
-// of that part and, once the edits pause (a debounce), their references. Finished references are cached on disk by
-// the hash of what they render, so that reopening a project does not start from zero. Every task carries a generation;
-// outputs of older generations are dropped here, and what passes goes out through `output` in order.
+// image at the rate the technique renders and the last state always renders; a render in flight that would hold the
+// new state back for long (it has run kSupersedeMs, or the view's last render took longer) is cancelled instead. An
+// edit of a part re-renders the views of that part and, once the edits pause (a debounce), their references. Finished
+// references are cached on disk by the hash of what they render, so that reopening a project does not start from zero.
+// Every task carries a generation; outputs of older generations are dropped here, and what passes goes out through
+// `output` in order.
 #pragma once
 
 #include "background.h"
 #include "render_service.h"
 #include "session.h"
 
+#include <QElapsedTimer>
 #include <QObject>
 #include <QTimer>
 
@@ -33,8 +36,14 @@ public:
     void reset();
     // Renders every view, then every reference.
     void renderAll();
-    // The views' list changed (added, removed, renamed, another technique): reset() is needed.
+    // The views' list changed (added, removed, renamed, another technique): followViews() or reset() is needed.
     bool viewsChanged() const;
+    // Follows an authoring of the views (add, duplicate, rename, remove, or its undo): a view whose technique, part
+    // and parameters did not change keeps its renders, in flight or done, under its new index (by its name first, then
+    // as the one renamed); the others need renderView(). Returns, per view, the index it had before (-1: new), for the
+    // comparison model to keep its images.
+    std::vector<int> followViews();
+    void renderView(int view);  // the view and its reference
     // An edit of view `view`'s parameters or exposure.
     void viewEdited(int view);
     // An edit of the scene: the views whose part changed (stateChanged) render again, and their references once the
@@ -49,6 +58,8 @@ public:
     bool viewsCaughtUp() const;
     // Nothing is queued, running or waiting for its debounce.
     bool settled() const;
+    // A render of the view's image (or of its reference) is queued, running or waiting for an edit's debounce.
+    bool busy(int view, bool reference) const;
 
     static QString referenceCacheFolder();
     QString referenceCachePath(int view) const;
@@ -64,6 +75,7 @@ signals:
 
 private:
     void render(int view, bool reference);
+    int indexOfId(int id) const;  // the view a task's id stands for now; -1 when it was removed
     void flushDirty();
     void onOutput(const RenderOutput& out);
     std::string viewsKey() const;
@@ -75,11 +87,18 @@ private:
     std::vector<std::string> partKeys_;    // per view
     std::vector<std::string> viewKeys_;    // each view's parameters and exposure
     std::vector<quint64> states_;
+    // Each view's id: what its tasks carry as RenderTask::view, so that a render in flight follows its view when
+    // views are added or removed before it (followViews).
+    std::vector<int> ids_;
+    int nextId_ = 0;
+    std::vector<std::string> techniques_, names_;  // per view, as of reset() or followViews()
     std::vector<quint64> generation_, referenceGeneration_;
     std::vector<bool> pending_;            // a technique render of the view is queued or running
     std::vector<bool> referencePending_;   // so is a reference render
     std::vector<bool> progressive_;        // the view's technique sent a progressive image (it may render for long)
     std::vector<quint64> shownState_;      // the state of the view's latest image
+    std::vector<QElapsedTimer> submitted_;  // when the view's render in flight was submitted
+    std::vector<double> lastSeconds_;       // how long the view's last finished render took (-1: none yet)
     std::set<int> dirtyViews_;             // edited views waiting for their render in flight to finish
     std::set<int> dirtyParts_;             // views whose references restart after the debounce
     std::map<quint64, QString> cachePathOf_;  // reference renders in flight: where their result is cached

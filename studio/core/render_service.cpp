@@ -132,6 +132,17 @@ void RenderService::cancelReference(int view) {
         }
 }
 
+void RenderService::cancelView(int view) {
+    std::lock_guard lock(mutex_);
+    for (auto it = queue_.begin(); it != queue_.end();)
+        it = it->view == view ? queue_.erase(it) : it + 1;
+    for (auto& worker : workers_)
+        if (worker->running && worker->task->view == view) {
+            worker->cancel = true;
+            worker->requeue = false;
+        }
+}
+
 bool RenderService::idle() const {
     std::lock_guard lock(mutex_);
     return !anyRunning() && queue_.empty();

@@ -69,6 +69,8 @@ public:
     void cancelAll();
     // Drops a queued reference of `view` and cancels it if it is running (a cached one replaces it).
     void cancelReference(int view);
+    // Drops the queued tasks of `view` (its image's and its reference's) and cancels the running ones (it is gone).
+    void cancelView(int view);
     bool idle() const;
     bool hasGpuWorker() const { return workers_.size() > 1; }
 

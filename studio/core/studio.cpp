@@ -48,7 +48,7 @@ Studio::Studio(std::vector<std::string> overrides, QObject* parent)
       composer_(new Composer(this)) {
     // The data flows one way: session -> scheduler -> model -> composer, docks and exports.
     connect(&session_, &Session::projectReplaced, this, [this] {
-        rebuildViews(true);
+        rebuildViews();
         emit titleChanged();
     });
     connect(&session_, &Session::viewChanged, this, [this](int view) {
@@ -165,7 +165,7 @@ QString Studio::title() const {
            "[*] - Tyndall Studio";
 }
 
-void Studio::rebuildViews(bool projectOpened) {
+void Studio::rebuildViews() {
     const Project& project = session_.project();
     scheduler_->reset();
     std::vector<ComparisonModel::ViewInfo> views;
@@ -181,20 +181,37 @@ void Studio::rebuildViews(bool projectOpened) {
     comparedSnapshot_ = -1;
     ++probeGeneration_;  // a probe still running for the previous views is not shown
     QString error;
-    if (!projectOpened)
-        snapshots_->followViews();
-    else if (!snapshots_->load(session_.path(), &error))
-        say("Snapshots not loaded: " + error);
+    if (!snapshots_->load(session_.path(), &error)) say("Snapshots not loaded: " + error);
     emit viewsRebuilt();
     if (model_->size() > 0) emit currentViewChanged(state_.current);
     emit phasesChanged();
     recompose();
 }
 
+void Studio::followViews() {
+    const Project& project = session_.project();
+    const std::vector<int> oldOf = scheduler_->followViews();
+    std::vector<ComparisonModel::ViewInfo> views;
+    for (std::size_t i = 0; i < project.views.size(); ++i) {
+        const View& v = project.views[i];
+        views.push_back(
+            {QString::fromStdString(v.name), techniqueDisplayName(v.technique), v.exposure, scheduler_->state(int(i))});
+    }
+    model_->followViews(views, oldOf);
+    for (std::size_t i = 0; i < oldOf.size(); ++i)
+        if (oldOf[i] < 0) scheduler_->renderView(int(i));
+    ++probeGeneration_;  // a probe still running names a view by its old index
+    snapshots_->followViews();
+    if (comparedSnapshot_ >= 0) compareWithSnapshot(comparedSnapshot_);  // its view may have moved
+    emit viewListChanged();
+    recompose();
+}
+
 void Studio::onSceneChanged() {
     noteEdit();
-    // Views added, removed, renamed or given another technique (or an undo of that): the views start again, the
-    // current one kept by name (a new view is selected).
+    // Views added, removed, renamed or given another technique (or an undo of that): the views that did not change
+    // keep their images, references and history; the others start again. The current one is kept by name (a new view
+    // is selected).
     if (scheduler_->viewsChanged()) {
         const Project& project = session_.project();
         const QString current =
@@ -202,7 +219,7 @@ void Studio::onSceneChanged() {
         std::set<std::string> before;
         for (const ViewFrame& f : model_->frames())
             before.insert(f.name.toStdString());
-        rebuildViews(false);
+        followViews();
         int select = -1;
         for (int i = 0; i < int(project.views.size()); ++i) {
             if (!before.count(project.views[std::size_t(i)].name)) select = i;  // new
@@ -221,6 +238,55 @@ void Studio::onSceneChanged() {
 
 bool Studio::settled() const {
     return scheduler_->settled() && model_->idle() && !exporter_->running();
+}
+
+QString Studio::status(QString* details) const {
+    QStringList views, references, lines;
+    QString firstProgress;
+    int stale = 0;
+    auto shortName = [](const QString& name) { return name.size() > 24 ? name.left(23) + "…" : name; };
+    const std::vector<ViewFrame>& frames = model_->frames();
+    for (int i = 0; i < int(frames.size()); ++i) {
+        const ViewFrame& f = frames[std::size_t(i)];
+        stale += f.metricsStale;
+        if (model_->isImage(i)) continue;
+        const bool view = f.rendering || scheduler_->busy(i, false);
+        const bool reference = f.referenceRendering || scheduler_->busy(i, true);
+        if (view) views << f.name;
+        QString progress;
+        if (reference) {
+            references << f.name;
+            progress = referenceProgress(f);  // "reference 24/64 spp, ETA 10 s"
+            if (progress.isEmpty()) progress = "reference queued";
+            if (firstProgress.isEmpty()) firstProgress = shortName(f.name) + " " + progress.mid(10);
+        }
+        QStringList what;
+        if (view) what << "rendering";
+        if (reference) what << progress;
+        if (!f.error.isEmpty()) what << "failed: " + f.error.left(80);
+        lines << f.name + ": " + (what.isEmpty() ? QString("ready") : what.join(", "));
+    }
+    QStringList parts;
+    if (views.size() == 1) parts << "Rendering " + shortName(views.front());
+    if (views.size() > 1) parts << QString("Rendering %1 views").arg(views.size());
+    if (references.size() == 1) parts << "reference " + firstProgress;
+    if (references.size() > 1) parts << QString("%1 references (%2)").arg(references.size()).arg(firstProgress);
+    if (parts.isEmpty() && !model_->idle()) parts << "Computing metrics";
+    if (exporter_->running()) parts << "Exporting";
+    if (parts.isEmpty() && !settled()) parts << "Working";  // a cached reference being read, a debounce
+    QString text = parts.isEmpty() ? QString("Ready") : parts.join(" · ");
+    if (!text.isEmpty()) text[0] = text[0].toUpper();
+    if (stale > 0) {
+        text += QString(" · %1 stale").arg(stale);
+        lines << QString(
+                     "%1 comparison%2 use the last image and reference of one state until the new reference has "
+                     "%3 spp")
+                     .arg(stale)
+                     .arg(stale > 1 ? "s" : "")
+                     .arg(kMinComparedReferenceSpp);
+    }
+    if (details) *details = lines.join("\n");
+    return text;
 }
 
 // --- Views

@@ -102,6 +102,10 @@ public:
     int currentView() const { return state_.current; }
     // Every view's latest render is final, nothing is queued, and no metrics or export job is in flight.
     bool settled() const;
+    // What the studio is doing, for the status bar: "Ready" exactly when settled(), else what runs in a short form
+    // ("Rendering light shaft · reference glow 24/64 spp, ETA 10 s", "Rendering 3 views · 2 references (glow
+    // queued)") and how many comparisons are stale ("· 1 stale"). `details` gets a line per view (the tooltip).
+    QString status(QString* details = nullptr) const;
     // Waits for the metrics and reference cache files in flight.
     void waitForBackgroundWork() { background_->waitForDone(); }
 
@@ -182,8 +186,8 @@ signals:
     void message(const QString& text, int timeoutMs);
     void warning(const QString& title, const QString& text);  // needs the user's attention (a dialog)
     void titleChanged();
-    void viewsRebuilt();                // the views start again (a project opened, views added or removed)
-    void viewListChanged();             // names or image views changed
+    void viewsRebuilt();                // the views start again (a project opened)
+    void viewListChanged();             // views authored (added, renamed, removed), image views opened or closed
     void currentViewChanged(int view);  // also after viewsRebuilt
     void displayChanged();              // the compositor's state (layout, tonemap, exposure offset, zoom, ...)
     void phasesChanged();               // the phase curves or the LTSD fit to plot
@@ -194,7 +198,8 @@ signals:
     void probeMessage(const QString& message);  // why there is no probe (or the project changed: none yet)
 
 private:
-    void rebuildViews(bool projectOpened);
+    void rebuildViews();  // a project opened: every view starts again
+    void followViews();   // after an authoring of the views: what did not change keeps its renders
     void onSceneChanged();
     void noteEdit() { editClock_.start(); }
     void requestCompose(bool now = false);  // hands the queued frame to the composer (now: even right after an edit)

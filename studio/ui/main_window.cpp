@@ -124,8 +124,8 @@ void MainWindow::placeDocks() {
 }
 
 void MainWindow::buildStatusBar() {
-    // Created now, so that their messages never resize the viewport. The permanent label says what renders: "Ready"
-    // only when every reference is done and no comparison is stale.
+    // Created now, so that their messages never resize the viewport. The permanent label says what runs, short:
+    // "Ready" only when nothing is queued or running (Studio::status), every view's state in its tooltip.
     renderStatus_ = new QLabel("Ready");
     renderStatus_->setObjectName("renderStatus");
     statusBar()->addPermanentWidget(renderStatus_);
@@ -149,12 +149,25 @@ void MainWindow::connectStudio() {
     });
     connect(&studio_, &Studio::displayChanged, this, &MainWindow::updateDisplay);
     connect(&studio_, &Studio::frameComposed, viewport_, &Viewport::setFrame);
+    // "Ready" only when nothing is queued or running: the status follows every render, metric and export.
     auto updateStatus = [this] {
-        const QString text = studio_.comparison().status();
+        QString details;
+        const QString text = studio_.status(&details);
         if (renderStatus_->text() != text) renderStatus_->setText(text);
+        if (renderStatus_->toolTip() != details) renderStatus_->setToolTip(details);
     };
     connect(&studio_.comparison(), &ComparisonModel::metricsChanged, this, updateStatus);
+    connect(&studio_.comparison(), &ComparisonModel::framesChanged, this, updateStatus);
+    connect(&studio_.scheduler(), &RenderScheduler::started, this, updateStatus);
+    connect(&studio_.scheduler(), &RenderScheduler::output, this, updateStatus, Qt::QueuedConnection);
+    connect(&studio_.renderService(), &RenderService::idleChanged, this, updateStatus, Qt::QueuedConnection);
+    connect(&studio_.exporter(), &Exporter::finished, this, updateStatus, Qt::QueuedConnection);
     connect(&studio_, &Studio::viewsRebuilt, this, updateStatus);
+    connect(&studio_, &Studio::viewListChanged, this, updateStatus);
+    // And a look four times a second for what ends without a signal (a dropped metrics job, a cache read).
+    auto* statusPoll = new QTimer(this);
+    connect(statusPoll, &QTimer::timeout, this, updateStatus);
+    statusPoll->start(250);
     connect(&studio_.files(), &ProjectFiles::recentChanged, this, &MainWindow::refreshRecentMenu);
     connect(&studio_.session(), &Session::projectReplaced, this, &MainWindow::updateAnimationActions);
     connect(&studio_.session(), &Session::sceneChanged, this, &MainWindow::updateAnimationActions);

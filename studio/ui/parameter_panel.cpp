@@ -217,6 +217,7 @@ void ParameterPanel::rebuild() {
     }
 
     auto* exposure = new QDoubleSpinBox;
+    exposure->setKeyboardTracking(false);  // a typed value is one edit, on Enter or focus-out; arrows stay live
     exposure->setObjectName("exposure");
     exposure->setRange(-20.0, 20.0);
     exposure->setSingleStep(0.5);
@@ -262,6 +263,7 @@ void ParameterPanel::rebuild() {
             auto* layout = new QHBoxLayout(row);
             layout->setContentsMargins(0, 0, 0, 0);
             auto* spin = new QDoubleSpinBox;
+            spin->setKeyboardTracking(false);
             spin->setDecimals(info.logScale ? 8 : 4);
             spin->setRange(info.min, info.max);
             spin->setSingleStep((info.max - info.min) / 100.0);
@@ -289,6 +291,7 @@ void ParameterPanel::rebuild() {
         }
         case ParamType::Int: {
             auto* spin = new QSpinBox;
+            spin->setKeyboardTracking(false);
             spin->setRange(int(info.min), int(info.max));
             spin->setValue(int(std::get<std::int64_t>(value)));
             connect(spin, &QSpinBox::valueChanged, this, [set](int v) { set(std::int64_t(v)); });
@@ -335,6 +338,7 @@ void ParameterPanel::rebuild() {
             std::array<QDoubleSpinBox*, 3> spins{};
             for (int c = 0; c < 3; ++c) {
                 spins[std::size_t(c)] = new QDoubleSpinBox;
+                spins[std::size_t(c)]->setKeyboardTracking(false);
                 spins[std::size_t(c)]->setRange(info.min, info.max);
                 spins[std::size_t(c)]->setDecimals(4);
                 spins[std::size_t(c)]->setValue(rgb[c]);

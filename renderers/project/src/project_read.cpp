@@ -434,6 +434,7 @@ AngularDistribution readDistribution(const JsonField& f) {
     if (!f.present()) return d;
     f.expectObject(keyNames(K::Distribution));
     if (f["type"].present()) d.kind = readEnum(f["type"], kDistributionNames);
+    d.axisAsWritten = f["axis"].vec3Or(d.axis);
     d.axis = readDirection(f["axis"], d.axis);
     d.spotExponent = f["exponent"].numberOr(d.spotExponent);
     requireSpotExponent(f["exponent"], d.spotExponent);
@@ -484,6 +485,7 @@ void requireGoboAcrossBeam(const JsonField& field, const std::vector<Vec3>& gobo
 DirectionalLight readDirectionalLight(const JsonField& f) {
     DirectionalLight light;
     light.name = readName(f);
+    light.directionAsWritten = f["direction"].vec3Or(light.direction);
     light.direction = readDirection(f["direction"], light.direction);
     light.irradiance = f["irradiance"].rgbOr(light.irradiance);
     requireEachInRange(f["irradiance"], light.irradiance, 0.0, kMaxRadiometric);

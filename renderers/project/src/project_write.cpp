@@ -134,11 +134,18 @@ json exponentJson(double n) {
     return n;
 }
 
+// A direction as the project gave it, when it still is the direction the scene holds (code may have set another).
+Vec3 asWritten(const Vec3& written, const Vec3& normalised) {
+    const double length = glm::length(written);
+    if (!(length > 0.0) || glm::length(written / length - normalised) > 1e-12) return normalised;
+    return written;
+}
+
 json toJson(const AngularDistribution& d) {
     using Kind = AngularDistribution::Kind;
     const AngularDistribution defaults;
     json j = {{"type", enumName(kDistributionNames, d.kind)}};
-    putWhen(j, "axis", d.kind != Kind::Isotropic, d.axis, defaults.axis);
+    putWhen(j, "axis", d.kind != Kind::Isotropic, asWritten(d.axisAsWritten, d.axis), defaults.axis);
     if (d.kind == Kind::Spot || d.spotExponent != defaults.spotExponent) j["exponent"] = exponentJson(d.spotExponent);
     putWhen(j, "coefficients", d.kind == Kind::Polynomial || d.kind == Kind::Legendre, d.coefficients,
             defaults.coefficients);
@@ -156,7 +163,7 @@ json toJson(const PointLight& light) {
 json toJson(const DirectionalLight& light) {
     json j = {{"type", "directional"},
               {"name", light.name},
-              {"direction", toJson(light.direction)},
+              {"direction", toJson(asWritten(light.directionAsWritten, light.direction))},
               {"irradiance", toJson(light.irradiance)}};
     if (!light.gobo.empty()) j["gobo"] = toJson(light.gobo);
     return j;

@@ -285,6 +285,30 @@ private slots:
         studio.waitForBackgroundWork();
     }
 
+    // A value that is slow to render, replaced by another while it renders (typed 65536 then 2), does not hold the
+    // new one back (issue 33: nodes = 1 rendered for 2.7 s before the 16 typed after it): once it has run a second,
+    // the render in flight is cancelled and the newest state renders; its image never arrives.
+    void cancelsARenderThatANewerStateSupersedes() {
+        Studio studio(kSmall);
+        studio.setRecovery(Studio::Recovery::Never);
+        QString error;
+        QVERIFY2(studio.openProject(kDefaultProject, &error), qPrintable(error));
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+        const int view = 1;  // the light shaft, WVDS: samplesPerPixel is a parameter
+        QCOMPARE(studio.session().project().views[view].technique, std::string("wvds"));
+        std::vector<int> finals;
+        connect(&studio.scheduler(), &RenderScheduler::output, this, [&](const RenderOutput& out) {
+            if (out.view == view && !out.reference && out.final && out.image) finals.push_back(out.spp);
+        });
+        studio.session().setParameter(view, "samplesPerPixel", std::int64_t(65536));
+        QTest::qWait(100);
+        studio.session().setParameter(view, "samplesPerPixel", std::int64_t(2));
+        QVERIFY2(waitFor([&] { return !finals.empty(); }, 60000), qPrintable(studio.frames()[view].error));
+        QCOMPARE(finals, std::vector<int>{2});
+        QCOMPARE(studio.frames()[view].spp, 2);
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+    }
+
     // Views authored through the studio: a duplicate is selected; an image view cannot be duplicated, is renamed and
     // closed without touching the project.
     void authorsViews() {

@@ -259,6 +259,118 @@ private slots:
         QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 120000);
     }
 
+    // A value typed into a field is one edit, made on Enter (or when the field loses the focus), not one per key
+    // (issue 33: typing 16 into LTSD's nodes rendered nodes = 1 first); the arrows stay live. In the Parameters dock
+    // and in the Scene dock. A direction keeps what was typed (0.3 stayed 0.3, not 0.2960 normalised), and the saved
+    // file changes on that one line.
+    void typedValuesCommitOnEnterAndStayAsTyped() {
+        const QString path = openCopyOfTheDefaultProject("typed");
+        QVERIFY(!path.isEmpty());
+        QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 120000);
+        Studio& studio = window_->studio();
+        QUndoStack* undo = studio.session().undoStack();
+        studio.selectView(2);
+        QCoreApplication::processEvents();
+        auto* nodes = window_->findChild<QSpinBox*>("param:nodes");
+        QVERIFY(nodes);
+        const int steps = undo->index();
+        nodes->setFocus();
+        nodes->selectAll();
+        QTest::keyClicks(nodes, "16");
+        QCoreApplication::processEvents();
+        QCOMPARE(undo->index(), steps);  // nothing yet: neither 1 nor 16
+        QVERIFY(!studio.session().project().views[2].parameters.contains("nodes") ||
+                studio.session().project().views[2].parameters["nodes"] != nlohmann::json(1));
+        QTest::keyClick(nodes, Qt::Key_Return);
+        QCOMPARE(undo->index(), steps + 1);
+        QCOMPARE(studio.session().project().views[2].parameters["nodes"], nlohmann::json(16));
+        QTest::keyClick(nodes, Qt::Key_Up);  // the arrows stay live (merged into one undo step with the typed value)
+        QCOMPARE(studio.session().project().views[2].parameters["nodes"], nlohmann::json(17));
+        undo->setIndex(steps);
+
+        auto* x = window_->findChild<QDoubleSpinBox*>("scene:lights[sun].direction[0]");
+        QVERIFY(x);
+        x->setFocus();
+        x->selectAll();
+        QTest::keyClicks(x, "0.3");
+        QCOMPARE(undo->index(), steps);
+        QTest::keyClick(x, Qt::Key_Return);
+        QCOMPARE(undo->index(), steps + 1);
+        QCoreApplication::processEvents();
+        x = window_->findChild<QDoubleSpinBox*>("scene:lights[sun].direction[0]");
+        QCOMPARE(x->value(), 0.3);
+        const Vec3 d = studio.session().project().scene.directionalLights[0].direction;
+        QVERIFY(std::abs(glm::length(d) - 1.0) < 1e-12);  // what renders is normalised
+        QString error;
+        QVERIFY2(studio.saveProject(&error), qPrintable(error));
+        QFile original(kDefaultProject), saved(path);
+        QVERIFY(original.open(QIODevice::ReadOnly) && saved.open(QIODevice::ReadOnly));
+        const QStringList a = QString(original.readAll()).split('\n'), b = QString(saved.readAll()).split('\n');
+        QCOMPARE(a.size(), b.size());
+        QStringList changed;
+        for (int i = 0; i < a.size(); ++i)  // (the test window's --set of a small camera and reference aside)
+            if (a[i] != b[i] && !b[i].contains("\"width\"") && !b[i].contains("\"height\"") &&
+                !b[i].contains("\"reference\""))
+                changed << b[i];
+        QCOMPARE(changed.size(), 1);
+        QVERIFY2(changed[0].contains("[0.3, -0.42, 1.0]"), qPrintable(changed[0]));
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 120000);
+    }
+
+    // Authoring a view keeps every other view's images, references, metrics and convergence history (issue 33: each
+    // add, rename, duplicate or remove sent every view back to "rendering..." and cleared the history); only the new
+    // view renders, and nothing else is queued for the others.
+    void authoringKeepsTheOtherViewsImages() {
+        QVERIFY(window_->openProject(kDefaultProject, false));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 120000);
+        Studio& studio = window_->studio();
+        Session& session = studio.session();
+        const std::vector<ViewFrame> before = studio.frames();
+        std::vector<QString> names;
+        std::vector<std::vector<ConvergencePoint>> history;
+        studio.comparison().convergenceSeries(names, history);
+        auto keeps = [&](int now, int was) {
+            const ViewFrame &f = studio.frames()[std::size_t(now)], &b = before[std::size_t(was)];
+            return f.image == b.image && f.reference == b.reference && !f.rendering && !f.referenceRendering &&
+                   f.metrics.has_value() == b.metrics.has_value();
+        };
+        QString error;
+        QVERIFY2(session.addView("pegoraro", &error), qPrintable(error));
+        const int n = int(before.size());
+        for (int i = 0; i < n; ++i)
+            QVERIFY2(keeps(i, i), qPrintable(before[std::size_t(i)].name));
+        QVERIFY(studio.frames()[std::size_t(n)].rendering);
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 120000);
+        for (int i = 0; i < n; ++i)
+            QVERIFY2(keeps(i, i), qPrintable(before[std::size_t(i)].name));
+
+        QVERIFY2(session.renameView(1, "shaft B", &error), qPrintable(error));
+        QVERIFY(keeps(1, 1));
+        QCOMPARE(studio.frames()[1].name, QString("shaft B"));
+        QVERIFY2(session.duplicateView(2, &error), qPrintable(error));
+        for (int i : {0, 1, 2})
+            QVERIFY(keeps(i, i));
+        QVERIFY(studio.frames()[3].rendering);  // the copy renders; its original keeps its name and images
+        QVERIFY(keeps(4, 3));
+        QVERIFY2(session.removeView(0, &error), qPrintable(error));
+        QVERIFY(keeps(0, 1) && keeps(1, 2) && keeps(3, 3));
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 120000);
+        QVERIFY(keeps(0, 1) && keeps(1, 2) && keeps(3, 3));
+        // The history of a kept view is its own, under its new index.
+        std::vector<QString> namesAfter;
+        std::vector<std::vector<ConvergencePoint>> historyAfter;
+        studio.comparison().convergenceSeries(namesAfter, historyAfter);
+        QCOMPARE(historyAfter[0].size(), history[1].size());
+        QCOMPARE(historyAfter[1].size(), history[2].size());
+
+        // Undo of it all: the views are the original ones, and those never edited still show their first images.
+        session.undoStack()->setIndex(0);
+        QCOMPARE(int(studio.frames().size()), n);
+        for (int i : {1, 2, 3})
+            QVERIFY(keeps(i, i));
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 120000);
+    }
+
     // The Parameters dock lists every light and medium of the scene for the view: the ones it renders checked, those
     // its technique cannot render disabled with the reason; toggling one is an undoable edit of the view's part that
     // renders the view (and its reference) again.

@@ -180,6 +180,7 @@ struct AngularDistribution {
     enum class Kind { Isotropic, Spot, Polynomial, Legendre };
     Kind kind = Kind::Isotropic;
     Vec3 axis{0.0, -1.0, 0.0};         // direction of the lobe, normalised when loaded
+    Vec3 axisAsWritten{0.0};           // the axis as the project gives it (written back so; 0: as `axis`)
     double spotExponent = 1.0;         // Spot: ((1 + mu) / 2)^n, n in [0, 256]
     std::vector<double> coefficients;  // Polynomial or Legendre: c_0 .. c_{N-1}, N <= 32
 
@@ -200,6 +201,9 @@ struct PointLight {
 struct DirectionalLight {
     std::string name;
     Vec3 direction{0.0, -1.0, 0.0};  // the direction light travels, normalised when loaded
+    // The direction as the project gives it: a project is written back with the user's numbers (a one-value edit is
+    // a one-line diff), while every renderer uses `direction`. 0: as `direction`.
+    Vec3 directionAsWritten{0.0};
     Rgb irradiance{1.0};             // W/m^2, >= 0, on a plane perpendicular to direction
     std::vector<Vec3> gobo;          // optional convex planar aperture polygon, m; empty for none
 };
