@@ -214,6 +214,29 @@ TEST(Cli, BadInputExitsWithTwoAndSaysWhy) {
     EXPECT_FALSE(fs::exists(dir / "missing"));
 }
 
+// `tyndall validate` reports every error of a file (up to a bound), not only its first (issue 33): a medium, a light
+// and a view wrong at once are named together, with the first error's location first, and exit 2.
+TEST(Cli, ValidateReportsEveryErrorOfAFile) {
+    fs::path dir = scratch("errors");
+    std::ifstream in(source("projects/default.json"));
+    nlohmann::json j = nlohmann::json::parse(in);
+    j["media"][0]["sigma_s"] = {-1.0, 0.0, 0.0};
+    j["lights"][0]["irradiance"] = {-2.0, 1.0, 1.0};
+    j["views"][1]["technique"] = "nope";
+    const std::string path = writeFile(dir / "three.json", j.dump(2));
+    CliRun r = tyndall("validate '" + path + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    for (const char* field : {"sigma_s", "irradiance", "nope", "3 errors"})
+        EXPECT_NE(r.output.find(field), std::string::npos) << field << "\n" << r.output;
+    // A bound: 30 broken lights report 20 errors and how many more.
+    nlohmann::json many = nlohmann::json::parse(std::ifstream(source("projects/default.json")));
+    for (int i = 0; i < 30; ++i)
+        many["lights"].push_back({{"type", "point"}, {"name", "p" + std::to_string(i)}, {"intensity", {-1, 0, 0}}});
+    r = tyndall("validate '" + writeFile(dir / "many.json", many.dump(2)) + "'");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("and 10 more errors"), std::string::npos) << r.output;
+}
+
 // The Pegoraro example renders on both paths with its report in the metadata; what the technique cannot render, or a
 // parameter value it does not know, is refused with exit code 2 and a reason.
 TEST(Cli, RendersThePegoraroExampleAndRefusesWhatItCannotRender) {

@@ -1,8 +1,16 @@
-// tyndall-studio [project.json] [image ...] [--set path=value ...] [--screenshot file.png]: the lookdev and comparison
-// studio. Opens the project (the bundled default project when none is given) and each image (EXR, HDR, PNG, ...) as a
-// read-only view compared against the project's reference, as tev opens images. With --screenshot it waits until every view and
-// reference has rendered, saves a picture of the screen and quits (for documentation and checks). Needs a window
-// system with Vulkan surfaces (the xcb platform; lavapipe does).
+// tyndall-studio [project.json] [image ...] [--project project.json] [--set path=value ...] [--screenshot file.png]:
+// the lookdev and comparison studio.
+//
+// - With a project (or nothing): opens it (the bundled default project when none is given), and each image (EXR, HDR,
+//   PNG, ...) as a read-only view compared against the project's reference.
+// - With images and no project, an image-only session, as tev opens images: nothing renders, the first image is every
+//   other image's reference (Shift+1-9 chooses another), with every metric, difference and export. `--project P`
+//   keeps the images beside project P instead.
+//
+// A project that does not open in an interactive run is reported (a dialog, and the status bar) and the studio stays
+// open on the bundled default project, the file in the recent list to open again once fixed. With --screenshot it
+// waits until every view and reference has rendered, saves a picture of the screen and quits (for documentation and
+// checks). Needs a window system with Vulkan surfaces (the xcb platform; lavapipe does).
 //
 // With --screenshot the run is non-interactive: it never waits on a dialog. Every problem is printed on stderr and
 // ends the run: exit 1 for the environment (no Vulkan, a platform without window surfaces such as offscreen, an
@@ -27,7 +35,7 @@ int main(int argc, char** argv) {
     QApplication app(argc, argv);
     QApplication::setOrganizationName("Tyndall");
     QApplication::setApplicationName("Tyndall Studio");
-    QString project = TYNDALL_DEFAULT_PROJECT;
+    QString project;
     std::vector<std::string> overrides;
     QString screenshot;
     QStringList images;
@@ -37,15 +45,21 @@ int main(int argc, char** argv) {
             overrides.push_back(args[++i].toStdString());
         else if (args[i] == "--screenshot" && i + 1 < args.size())
             screenshot = args[++i];
+        else if (args[i] == "--project" && i + 1 < args.size())
+            project = args[++i];
         else if (args[i] == "--help") {
-            std::printf("usage: tyndall-studio [project.json] [image.exr|.hdr|.png ...] [--set path=value ...] "
-                        "[--screenshot file.png]\n");
+            std::printf(
+                "usage: tyndall-studio [project.json] [image.exr|.hdr|.png ...] [--project project.json] "
+                "[--set path=value ...] [--screenshot file.png]\n"
+                "Images without a project: an image-only session, the first image the reference.\n");
             return 0;
         } else if (tyndall::studio::isImageFile(args[i]))
             images << args[i];
         else
             project = args[i];
     }
+    const bool imagesOnly = project.isEmpty() && !images.isEmpty();
+    if (project.isEmpty() && !imagesOnly) project = TYNDALL_DEFAULT_PROJECT;
     const bool interactive = screenshot.isEmpty();
     const auto fail = [&](const QString& message) {
         std::fprintf(stderr, "tyndall-studio: %s\n", qPrintable(message));
@@ -63,7 +77,7 @@ int main(int argc, char** argv) {
         fail("Vulkan is not available: " + QString::number(vulkan.errorCode()));
         return 1;
     }
-    if (!interactive) {
+    if (!interactive && !imagesOnly) {
         try {
             (void)tyndall::loadProject(tyndall::techniqueCatalogue(), project.toStdString(), overrides);
         } catch (const std::exception& e) {
@@ -72,7 +86,7 @@ int main(int argc, char** argv) {
         }
     }
     tyndall::studio::MainWindow window(&vulkan, overrides);
-    if (!interactive) {
+    if (!interactive && !imagesOnly) {
         // Recovering unsaved changes is a person's decision: report the autosave and leave it for them.
         const QFileInfo autosave(tyndall::studio::Studio::autosavePath(project)), file(project);
         if (autosave.exists() && autosave.lastModified() >= file.lastModified()) {
@@ -83,16 +97,27 @@ int main(int argc, char** argv) {
         window.studio().setRecovery(tyndall::studio::Studio::Recovery::Never);
     }
     window.show();
-    if (!window.openProject(project, interactive)) {
-        if (!interactive) std::fprintf(stderr, "tyndall-studio: cannot open %s\n", qPrintable(project));
-        return 2;
-    }
-    for (const QString& image : images) {
+    if (imagesOnly) {
         QString error;
-        if (window.studio().openImageView(image, &error) >= 0) continue;
-        fail(error);
-        if (!interactive) return 2;
+        if (!window.studio().openImageSession(images, &error)) {
+            fail(error);
+            if (!interactive) return 2;
+        }
+    } else if (!interactive) {
+        if (!window.openProject(project, false)) {
+            std::fprintf(stderr, "tyndall-studio: cannot open %s\n", qPrintable(project));
+            return 2;
+        }
+    } else {
+        window.openAtStart(project, TYNDALL_DEFAULT_PROJECT);  // a file that does not open: the default one, said so
     }
+    if (!imagesOnly)
+        for (const QString& image : images) {
+            QString error;
+            if (window.studio().openImageView(image, &error) >= 0) continue;
+            fail(error);
+            if (!interactive) return 2;
+        }
     QTimer poll;
     QTimer deadline;
     if (!screenshot.isEmpty()) {

@@ -21,7 +21,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 namespace tyndall::cli {
@@ -239,14 +241,33 @@ int validate(const ValidateArgs& args) {
             Project project = loadProject(techniqueCatalogue(), path, args.sets);
             // Every check a render would make: each view with its technique, and the reference of the whole scene
             // (every view's reference renders a part of it), each prepared as for rendering.
+            // Each view is checked on its own: every view that cannot render is reported, not only the first.
             std::size_t partial = 0;
-            for (const View& view : project.views) {
-                const RenderJob job = makeViewJob(project, path, view.name);
-                checkJob(job);
-                warnLeftOut(job, path + ": ");
-                partial += job.leftOut.empty() ? 0 : 1;
+            std::vector<std::string> errors;
+            std::optional<InputError> first;
+            auto check = [&](const std::function<void()>& run) {
+                try {
+                    run();
+                } catch (const InputError& e) {
+                    if (!first) first = e;
+                    errors.push_back(e.what());
+                }
+            };
+            for (const View& view : project.views)
+                check([&] {
+                    const RenderJob job = makeViewJob(project, path, view.name);
+                    checkJob(job);
+                    warnLeftOut(job, path + ": ");
+                    partial += job.leftOut.empty() ? 0 : 1;
+                });
+            check([&] { checkJob(makeReferenceJob(project, path, "")); });
+            if (errors.size() == 1) throw *first;
+            if (!errors.empty()) {
+                std::string message = first->message();
+                for (std::size_t i = 1; i < errors.size(); ++i)
+                    message += "\n" + errors[i];
+                throw InputError(first->where(), message + "\n(" + std::to_string(errors.size()) + " errors)");
             }
-            checkJob(makeReferenceJob(project, path, ""));
             std::printf("%s: ok (%s%s)\n", path.c_str(), counted(project.views.size(), "view").c_str(),
                         partial ? (", " + std::to_string(partial) + " leaving out part of the scene").c_str() : "");
             return int(kOk);

@@ -174,6 +174,12 @@ void ComparisonModel::syncImages() {
     }
 }
 
+void ComparisonModel::setTechniqueLabel(int view, const QString& label) {
+    if (view < 0 || view >= projectViews_ || frames_[std::size_t(view)].technique == label) return;
+    frames_[std::size_t(view)].technique = label;
+    emit framesChanged();
+}
+
 void ComparisonModel::setExposure(int view, double exposure) {
     if (view < 0 || view >= size() || frames_[std::size_t(view)].exposure == exposure) return;
     frames_[std::size_t(view)].exposure = exposure;
@@ -277,6 +283,7 @@ void ComparisonModel::refreshAlternates() {
     for (int i = 0; i < size(); ++i) {
         ViewFrame& f = frames_[std::size_t(i)];
         const bool use = referenceView_ >= 0 && i != referenceView_;
+        f.chosenReference = i == referenceView_;
         const std::shared_ptr<const Image> alternate = use ? frames_[std::size_t(referenceView_)].image : nullptr;
         if (alternate == f.alternate) continue;
         f.alternate = alternate;

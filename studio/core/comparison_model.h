@@ -60,6 +60,7 @@ public:
     // The state of a view's part changed (an edit): its images become stale until new ones arrive.
     void setState(int view, quint64 state);
     void setExposure(int view, double exposure);  // PSNR depends on it: the metrics follow
+    void setTechniqueLabel(int view, const QString& label);  // its parameters changed what the view is
     // The scheduler's news: a render started (targetSpp: a reference's), failed before it started, or sent an image.
     void renderStarted(int view, bool reference, int targetSpp);
     void renderFailed(int view, const QString& error);

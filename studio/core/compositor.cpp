@@ -14,6 +14,9 @@ namespace tyndall::studio {
 namespace {
 
 constexpr int kLabelHeight = 36;  // px under each image for its label
+// px kept free at the bottom of the frame for the colour bar of a difference or false-colour mode, so that it never
+// covers the bottom tiles' captions (it did, also in the exported viewport.png).
+constexpr int kColourBarStrip = 34;
 
 double luminance(const Image& image, int x, int y) {
     return 0.2126 * image.at(x, y, 0) + 0.7152 * image.at(x, y, 1) + 0.0722 * image.at(x, y, 2);
@@ -41,6 +44,8 @@ std::vector<QRect> cells(const std::vector<ViewFrame>& frames, const CompositorS
     std::vector<QRect> out(frames.size());
     if (frames.empty()) return out;
     const QSize imageSize = imageSizeOf(frames);
+    if (state.diff != DiffMode::Off || state.tonemap == Tonemap::FalseColour)
+        size.setHeight(std::max(1, size.height() - kColourBarStrip));
     if (state.layout != Layout::Grid) {
         const int current = std::clamp(state.current, 0, int(frames.size()) - 1);
         out[std::size_t(current)] = fit(imageSize, QRect(0, 0, size.width(), size.height() - kLabelHeight));
@@ -161,7 +166,10 @@ QString labelOf(const ViewFrame& f, bool reference, bool compact = false) {
     }
     // A view without its own lights/media renders what its technique supports: say that the scene is not all there.
     const Image* shown = reference ? f.reference.get() : f.image.get();
-    if (shown && shown->metadata.count("leftOut")) line += compact ? "  (partial)" : "  (leaves out part of the scene)";
+    // The Views list's tooltip says what, when the caption has no room for it.
+    if (shown && shown->metadata.count("leftOut"))
+        line += compact ? "  (partial: see the Views list)"
+                        : "  (leaves out " + QString::fromStdString(shown->metadata.at("leftOut")) + ")";
     return line + details;
 }
 
@@ -172,9 +180,15 @@ QString metricsLine(const ViewFrame& f, Detail detail = Detail::Full) {
     const bool compact = detail != Detail::Full;
     if (!f.metrics) {
         if (const QString why = incomparable(f); !why.isEmpty()) return "no metrics: " + why;
+        if (f.chosenReference && !f.snapshot) return "the other views' reference (Shift+1-9)";
         if (f.snapshot || f.alternate || !f.image) return {};
         return "metrics waiting for the reference" + (referenceProgress(f).isEmpty() ? QString() : ": " + referenceProgress(f));
     }
+    // A view that is its own reference (the path tracer with the reference's settings and seed): no error to show,
+    // rather than relMSE 0 and an infinite PSNR.
+    if (f.metrics->relMSE == 0.0 && f.metricsImage && f.metricsAgainst && !f.snapshot && !f.alternate)
+        return compact ? QString("identical to the reference")
+                       : QString("identical to its reference (the same renderer, settings and seed)");
     const QString progress = referenceProgress(f);
     if (compact) {
         QString line = QString(f.metricsStale ? "stale: " : "") + "relMSE " + number(f.metrics->relMSE) + "  " +
@@ -372,11 +386,14 @@ QImage toDisplay(const Image& image, double exposure, Tonemap op) {
 double sharedDifferenceScale(const std::vector<ViewFrame>& frames) {
     double sum = 0.0;
     long count = 0;
+    // Of what the views are compared against: their references, or the image chosen as the reference (Shift+1-9;
+    // the only one in an image-only session).
     for (const ViewFrame& f : frames) {
-        if (!f.reference) continue;
-        for (int y = 0; y < f.reference->height(); ++y)
-            for (int x = 0; x < f.reference->width(); ++x) {
-                sum += luminance(*f.reference, x, y);
+        const Image* against = f.reference ? f.reference.get() : f.alternate.get();
+        if (!against) continue;
+        for (int y = 0; y < against->height(); ++y)
+            for (int x = 0; x < against->width(); ++x) {
+                sum += luminance(*against, x, y);
                 ++count;
             }
     }
@@ -469,7 +486,9 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             if (reference && !f.snapshot && !f.alternate && !referenceProgress(f).isEmpty())
                 waiting = referenceProgress(f);
             else if (!reference && state.diff != DiffMode::Off && f.image)
-                waiting = "difference waiting for the reference";
+                waiting = f.chosenReference            ? QString("the other views' reference")
+                          : !incomparable(f).isEmpty() ? "no difference: " + incomparable(f)
+                                                       : QString("difference waiting for the reference");
             p.drawText(r, Qt::AlignCenter, f.error.isEmpty() ? waiting : "failed");
         } else {
             p.drawImage(r, img);

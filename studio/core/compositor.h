@@ -52,6 +52,7 @@ struct ViewFrame {
     QString snapshotName;
     std::shared_ptr<const Image> alternate;   // another view's image chosen as the reference (Shift+1-9)
     QString alternateName;
+    bool chosenReference = false;             // this view's image is every other view's reference (Shift+1-9)
     QString error;                            // the last render's failure
     bool file = false;                        // an image opened from a file (image_file.h): read-only, not rendered
 };
@@ -106,7 +107,8 @@ QString incomparable(const ViewFrame& frame);
 // level for sRGB, which takes a table; exactly for the other operators).
 QImage toDisplay(const Image& image, double exposure, Tonemap op = Tonemap::Srgb);
 
-// The difference scale shared by every view: 10 % of the mean luminance of the references (1e-3 without any).
+// The difference scale shared by every view: 10 % of the mean luminance of the references (or of the image chosen as
+// the reference, Shift+1-9), 1e-3 without any.
 double sharedDifferenceScale(const std::vector<ViewFrame>& frames);
 
 // The rectangles the views occupy in a frame of `size` under `state`, in view order (an empty rectangle for a view

@@ -109,8 +109,10 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
         // PNGs as the viewport shows them: the view's exposure with the E / Shift+E offset, and the operator.
         const double own = f.exposure, exposure = f.exposure + input.display.exposureOffset;
         // A view and its reference only as a pair of one state: the last such pair while the reference of an edit
-        // renders (marked stale); the image alone, said so, before the first one.
-        const ComparisonPair pair = referencePair(f);
+        // renders (marked stale); the image alone, said so, before the first one. Without a reference (an image-only
+        // session), against the view chosen as every view's reference (Shift+1-9).
+        const bool againstView = !f.reference && f.alternate;
+        const ComparisonPair pair = againstView ? comparisonPair(f) : referencePair(f);
         const std::shared_ptr<const Image> image = pair.image ? pair.image : f.image;
         if (image) {
             viewStep("the image", [image, stem, own] { writeImage(*image, stem + ".exr", own); });
@@ -135,6 +137,7 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
             m["missing"] = "the reference is not ready";
             report->notes << f.name + ": the reference is not ready, the image is exported alone";
         } else {
+            if (againstView) m["against"] = f.alternateName.toStdString();
             m["partHash"] = image->metadata.count("partHash") ? image->metadata.at("partHash") : "";
             m["stale"] = pair.stale;
             if (pair.stale) report->notes << f.name + ": the last image and reference of one state (stale)";

@@ -184,6 +184,33 @@ std::string Session::uniqueViewName(const std::string& stem) const {
         if (!taken(stem + " " + std::to_string(i))) return stem + " " + std::to_string(i);
 }
 
+bool Session::canAddView(const std::string& technique, QString* why) const {
+    try {
+        nlohmann::json after = projectToJson(project_);
+        const std::string name = uniqueViewName(technique);
+        after["views"].push_back({{"name", name}, {"technique", technique}});
+        const Project edited = projectFromJson(techniqueCatalogue(), after, path_.toStdString());
+        const RenderJob job = makeViewJob(edited, path_.toStdString(), name);
+        // A volumetric technique that renders none of the scene's media (ISV without a particle medium) would show
+        // the surfaces alone: nothing it is for.
+        const Scene& part = job.request.scene;
+        const bool sceneHasMedia = !edited.scene.media.empty() || !edited.scene.particleMedia.empty();
+        if (sceneHasMedia && part.media.empty() && part.particleMedia.empty()) {
+            std::string leftOut;
+            for (const std::string& line : job.leftOut)
+                leftOut += (leftOut.empty() ? "" : "; ") + line;
+            if (why)
+                *why = QString::fromStdString(job.technique->displayName() + " renders none of this scene's media" +
+                                              (leftOut.empty() ? std::string() : ": it leaves out " + leftOut));
+            return false;
+        }
+        return true;
+    } catch (const std::exception& e) {
+        if (why) *why = QString::fromStdString(e.what());
+        return false;
+    }
+}
+
 bool Session::addView(const std::string& technique, QString* error) {
     const std::string name = uniqueViewName(technique);
     return editViews([&](nlohmann::json& views) { views.push_back({{"name", name}, {"technique", technique}}); },

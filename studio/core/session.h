@@ -41,6 +41,8 @@ public:
     // its technique (unique); a technique change drops the parameters of the old one. They emit sceneChanged, with
     // the views' list changed.
     bool addView(const std::string& technique, QString* error);
+    // Whether a view of `technique` could be added (it renders something of the scene), else why not.
+    bool canAddView(const std::string& technique, QString* why) const;
     bool duplicateView(int view, QString* error);
     bool removeView(int view, QString* error);
     bool renameView(int view, const std::string& name, QString* error);

@@ -35,6 +35,15 @@ QString techniqueDisplayName(const std::string& technique) {
     }
 }
 
+QString viewLabel(const View& view) {
+    try {
+        const std::unique_ptr<Technique> technique = createTechnique(view.technique);
+        return QString::fromStdString(technique->labelFor(paramsFromJson(*technique, view.parameters, "parameters")));
+    } catch (const std::exception&) {
+        return techniqueDisplayName(view.technique);
+    }
+}
+
 Studio::Studio(std::vector<std::string> overrides, QObject* parent)
     : QObject(parent),
       overrides_(std::move(overrides)),
@@ -55,6 +64,7 @@ Studio::Studio(std::vector<std::string> overrides, QObject* parent)
         trace("edit of view %d", view);
         noteEdit();
         model_->setExposure(view, session_.project().views[std::size_t(view)].exposure);
+        model_->setTechniqueLabel(view, viewLabel(session_.project().views[std::size_t(view)]));
         scheduler_->viewEdited(view);
         recompose();
     });
@@ -160,19 +170,25 @@ bool Studio::saveProjectAs(const QString& path, QString* error) {
 }
 
 QString Studio::title() const {
+    if (session_.path().isEmpty()) {
+        QStringList names;
+        for (const ViewFrame& f : model_->frames())
+            names << f.name;
+        return (names.isEmpty() ? QString() : names.join(", ") + " - ") + "Tyndall Studio";
+    }
     const QString name = QString::fromStdString(session_.project().name);
     return (name.isEmpty() ? QString("Tyndall") : name) + " - " + QFileInfo(session_.path()).fileName() +
            "[*] - Tyndall Studio";
 }
 
 void Studio::rebuildViews() {
+    imageSession_ = false;  // a project opened: its views are compared against its references again
     const Project& project = session_.project();
     scheduler_->reset();
     std::vector<ComparisonModel::ViewInfo> views;
     for (std::size_t i = 0; i < project.views.size(); ++i) {
         const View& v = project.views[i];
-        views.push_back(
-            {QString::fromStdString(v.name), techniqueDisplayName(v.technique), v.exposure, scheduler_->state(int(i))});
+        views.push_back({QString::fromStdString(v.name), viewLabel(v), v.exposure, scheduler_->state(int(i))});
     }
     model_->reset(views);
     scheduler_->renderAll();
@@ -194,8 +210,7 @@ void Studio::followViews() {
     std::vector<ComparisonModel::ViewInfo> views;
     for (std::size_t i = 0; i < project.views.size(); ++i) {
         const View& v = project.views[i];
-        views.push_back(
-            {QString::fromStdString(v.name), techniqueDisplayName(v.technique), v.exposure, scheduler_->state(int(i))});
+        views.push_back({QString::fromStdString(v.name), viewLabel(v), v.exposure, scheduler_->state(int(i))});
     }
     model_->followViews(views, oldOf);
     for (std::size_t i = 0; i < oldOf.size(); ++i)
@@ -229,8 +244,10 @@ void Studio::onSceneChanged() {
         emit titleChanged();
         return;
     }
-    for (int i = 0; i < int(session_.project().views.size()); ++i)
+    for (int i = 0; i < int(session_.project().views.size()); ++i) {
         model_->setExposure(i, session_.project().views[std::size_t(i)].exposure);
+        model_->setTechniqueLabel(i, viewLabel(session_.project().views[std::size_t(i)]));
+    }
     scheduler_->sceneEdited();
     emit phasesChanged();
     recompose();
@@ -306,6 +323,29 @@ int Studio::openImageView(const QString& path, QString* error) {
         if (error) *error = QString::fromStdString(e.what());
         return -1;
     }
+}
+
+bool Studio::openImageSession(const QStringList& paths, QString* error) {
+    if (!session_.project().views.empty()) {
+        if (error) *error = "a project is open: its views render beside the images (open them as image views)";
+        return false;
+    }
+    QStringList problems;
+    int first = -1;
+    for (const QString& path : paths) {
+        QString why;
+        const int view = openImageView(path, &why);
+        if (view < 0) problems << why;
+        if (first < 0) first = view;
+    }
+    if (first >= 0) {
+        imageSession_ = true;
+        model_->chooseReferenceView(first);
+        selectView(std::min(first + 1, model_->size() - 1));
+        emit titleChanged();
+    }
+    if (error) *error = problems.join("\n");
+    return problems.isEmpty();
 }
 
 bool Studio::duplicateView(int view, QString* error) {

@@ -40,6 +40,8 @@ namespace tyndall::studio {
 
 // A technique's display name ("WVDS box"), or its registry name when there is no such technique.
 QString techniqueDisplayName(const std::string& technique);
+// A view's label: its technique's with what of its parameters changes what the image is ("LTSD (ratio shadows)").
+QString viewLabel(const View& view);
 
 class Studio : public QObject {
     Q_OBJECT
@@ -93,6 +95,11 @@ public:
     // the reference of the first view and selectable as every view's comparand (Shift+N). Returns its index, or -1
     // with the reason.
     int openImageView(const QString& path, QString* error);
+    // An image-only session (tev-like): the project is closed (nothing renders) and the images open as views, the
+    // first one every other's reference (Shift+1-9 chooses another). False with the reasons of the images that did
+    // not open (those that did stay); none opening closes nothing.
+    bool openImageSession(const QStringList& paths, QString* error);
+    bool imageSession() const { return imageSession_; }
     // Authoring of the view `view`, undoable for a project view; an image view can be renamed and removed (closed),
     // not duplicated. False with the reason (empty: nothing to do).
     bool duplicateView(int view, QString* error);
@@ -226,6 +233,7 @@ private:
     bool composeQueued_ = false;
     QElapsedTimer editClock_;  // since the last edit
     int comparedSnapshot_ = -1;
+    bool imageSession_ = false;          // images only, no project (openImageSession)
     std::uint64_t probeGeneration_ = 0;  // the latest Inspector probe; older answers are dropped
 };
 

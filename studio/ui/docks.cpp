@@ -24,6 +24,8 @@
 #include <QTableWidget>
 #include <QVBoxLayout>
 
+#include <cmath>
+
 namespace tyndall::studio {
 
 namespace {
@@ -59,13 +61,26 @@ ViewsDock::ViewsDock(Studio& studio, QWidget* parent)
     add->setObjectName("addView");
     add->setToolTip("Add a view with a technique (its default part: the lights and media it supports)");
     auto* techniques = new QMenu(add);
-    for (const std::string& name : techniqueNames())
-        techniques->addAction(techniqueDisplayName(name) + "  (" + QString::fromStdString(name) + ")", this,
-                              [this, name] {
-                                  QString error;
-                                  if (!studio_.session().addView(name, &error))
-                                      QMessageBox::warning(this, "Cannot add the view", error);
-                              });
+    techniques->setObjectName("addViewMenu");
+    techniques->setToolTipsVisible(true);
+    for (const std::string& name : techniqueNames()) {
+        QAction* action = techniques->addAction(techniqueDisplayName(name) + "  (" + QString::fromStdString(name) + ")",
+                                                this, [this, name] {
+                                                    QString error;
+                                                    if (!studio_.session().addView(name, &error))
+                                                        QMessageBox::warning(this, "Cannot add the view", error);
+                                                });
+        action->setData(QString::fromStdString(name));
+    }
+    // A technique that can render nothing of this scene (ISV without a particle medium) is offered disabled, with why.
+    connect(techniques, &QMenu::aboutToShow, this, [this, techniques] {
+        for (QAction* action : techniques->actions()) {
+            QString why;
+            const bool can = studio_.session().canAddView(action->data().toString().toStdString(), &why);
+            action->setEnabled(can);
+            action->setToolTip(can ? QString() : why);
+        }
+    });
     add->setMenu(techniques);
     auto edit = [this](const QString& text, const QString& tip, bool (Studio::*apply)(int, QString*)) {
         auto* button = new QPushButton(text);
@@ -105,6 +120,7 @@ ViewsDock::ViewsDock(Studio& studio, QWidget* parent)
     });
     connect(&studio_, &Studio::viewsRebuilt, this, &ViewsDock::refresh);
     connect(&studio_, &Studio::viewListChanged, this, &ViewsDock::refresh);
+    connect(&studio_.comparison(), &ComparisonModel::framesChanged, this, &ViewsDock::refreshPartial);
     connect(&studio_, &Studio::currentViewChanged, this, [this](int view) {
         if (list_->currentRow() != view) {
             const QSignalBlocker block(list_);
@@ -132,6 +148,28 @@ void ViewsDock::refresh() {
         list_->addItem(QString("%1  %2  (%3)").arg(list_->count() + 1).arg(f.name, f.technique));
     if (studio_.currentView() < list_->count()) list_->setCurrentRow(studio_.currentView());
     refreshImageAgainst();
+    refreshPartial();
+}
+
+void ViewsDock::refreshPartial() {
+    // A view that renders only part of the scene (its technique cannot render a light or medium, and the view does
+    // not choose its own): "partial" in the list, and what it leaves out and why in the item's tooltip.
+    const std::vector<ViewFrame>& frames = studio_.frames();
+    for (int i = 0; i < list_->count() && i < int(frames.size()); ++i) {
+        const ViewFrame& f = frames[std::size_t(i)];
+        const Image* shown = f.image ? f.image.get() : f.reference.get();
+        const QString leftOut = shown && shown->metadata.count("leftOut")
+                                    ? QString::fromStdString(shown->metadata.at("leftOut"))
+                                    : QString();
+        QListWidgetItem* item = list_->item(i);
+        const QString text = QString("%1  %2  (%3)").arg(i + 1).arg(f.name, f.technique) +
+                             (leftOut.isEmpty() ? QString() : "  - partial");
+        const QString tip = leftOut.isEmpty() ? QString()
+                                              : "Renders part of the scene: it leaves out " + leftOut +
+                                                    ". Choose the view's lights and media in the Parameters dock.";
+        if (item->text() != text) item->setText(text);
+        if (item->toolTip() != tip) item->setToolTip(tip);
+    }
 }
 
 void ViewsDock::refreshImageAgainst() {
@@ -201,7 +239,10 @@ void MetricsDock::refresh() {
             // Why there are no numbers: short in the cell (a long text would widen the column past the dock), whole
             // in its tooltip.
             const QString why = incomparable(f);
-            set(row, 0, why.isEmpty() ? QString("waiting") : why.section(':', 0, 0));
+            set(row, 0,
+                f.chosenReference ? QString("reference")
+                : why.isEmpty()   ? QString("waiting")
+                                  : why.section(':', 0, 0));
             table_->item(row, 0)->setToolTip(why);
             for (int c = 1; c < 5; ++c)
                 set(row, c, "");
@@ -210,7 +251,7 @@ void MetricsDock::refresh() {
         if (QTableWidgetItem* first = table_->item(row, 0)) first->setToolTip(QString());
         // A stale pair's numbers stay, marked, until the new reference arrives.
         set(row, 0, QString::number(f.metrics->relMSE, 'g', 3) + (f.metricsStale ? " (stale)" : ""));
-        set(row, 1, QString::number(f.metrics->psnr, 'g', 4));
+        set(row, 1, std::isfinite(f.metrics->psnr) ? QString::number(f.metrics->psnr, 'g', 4) : QString("identical"));
         set(row, 2, f.metrics->referenceNoiseRelMSE ? QString::number(*f.metrics->referenceNoiseRelMSE, 'g', 3) : "-");
         set(row, 3, QString::number(f.metrics->energyBias, 'g', 3));
         set(row, 4, f.regionMetrics ? QString::number(f.regionMetrics->relMSE, 'g', 3) : "-");

@@ -50,6 +50,7 @@ public:
 private:
     void refresh();              // the list from the comparison model's views
     void refreshImageAgainst();  // the comparand row, shown for an image view
+    void refreshPartial();       // "partial" and what a view leaves out (its tooltip)
     Studio& studio_;
     QListWidget* list_;
     QComboBox* imageAgainst_;

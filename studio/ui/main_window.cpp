@@ -21,6 +21,7 @@
 #include <QPointer>
 #include <QProgressDialog>
 #include <QPushButton>
+#include <QScreen>
 #include <QScrollArea>
 #include <QSettings>
 #include <QSignalBlocker>
@@ -101,7 +102,6 @@ void MainWindow::placeDocks() {
     addDockWidget(Qt::LeftDockWidgetArea, snapshots_);
     addDockWidget(Qt::BottomDockWidgetArea, plots_);
     addDockWidget(Qt::LeftDockWidgetArea, scene_);
-    resize(1280, 800);
     // The default layout: Snapshots behind Views and the Inspector behind Metrics (tabs), so that the Scene dock and
     // the metrics table get the height for their rows; docks wide enough for their captions.
     tabifyDockWidget(views_, snapshots_);
@@ -119,8 +119,27 @@ void MainWindow::placeDocks() {
     };
     // The window's size and its docks as the user left them (saved on close).
     const QSettings settings;
-    restoreGeometry(settings.value("window/geometry").toByteArray());
+    if (!restoreGeometry(settings.value("window/geometry").toByteArray())) {
+        // The first start: most of the screen, so that the tiles are large enough to judge (1280 x 800 left
+        // 190 x 135 tiles on a 1600 x 1000 screen).
+        const QRect available = screen()->availableGeometry();
+        resize(available.size() * 0.92);
+        move(available.center() - rect().center());
+    }
     if (restoreState(settings.value("window/state").toByteArray())) defaultDockSizes_ = nullptr;
+    keepOnScreen();
+}
+
+void MainWindow::keepOnScreen() {
+    // A window restored for another screen (or a smaller one) comes back whole on this one, its status bar included.
+    const QRect available = screen()->availableGeometry();
+    const QRect frame = frameGeometry();
+    if (available.contains(frame)) return;
+    const QSize margins = frame.size() - size();
+    resize(size().boundedTo(available.size() - margins));
+    const QRect now = frameGeometry();
+    move(std::clamp(now.x(), available.left(), std::max(available.left(), available.right() - now.width() + 1)),
+         std::clamp(now.y(), available.top(), std::max(available.top(), available.bottom() - now.height() + 1)));
 }
 
 void MainWindow::buildStatusBar() {
@@ -240,6 +259,17 @@ bool MainWindow::openProject(const QString& path, bool dialog) {
     QString error;
     if (studio_.openProject(path, &error)) return true;
     if (dialog) QMessageBox::critical(this, "Cannot open the project", error);
+    return false;
+}
+
+bool MainWindow::openAtStart(const QString& path, const QString& fallback) {
+    if (openProject(path, true)) return true;
+    studio_.files().addRecent(path);
+    if (QFileInfo(path).absoluteFilePath() != QFileInfo(fallback).absoluteFilePath() &&
+        studio_.session().path().isEmpty())
+        openProject(fallback, true);
+    statusBar()->showMessage("Not opened: " + QFileInfo(path).fileName() +
+                             " (File > Open Recent opens it again once fixed)");
     return false;
 }
 

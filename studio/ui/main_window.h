@@ -37,6 +37,10 @@ public:
     // Opens a project; on failure keeps the current one and, with `dialog`, says why in a message box. When an autosave
     // of the project is newer than its file, asks whether to recover it (Studio::setRecovery says when not to ask).
     bool openProject(const QString& path, bool dialog = true);
+    // The project named on the command line: a file that does not open is reported (a dialog, and the status bar) and
+    // the studio stays, on `fallback` (the bundled default project), with the file in the recent list to open again
+    // once fixed. False when `path` did not open.
+    bool openAtStart(const QString& path, const QString& fallback);
     // Asks whether to save unsaved changes: false on Cancel. Discard removes the autosave (nothing to recover).
     bool confirmDiscard();
     // The actions' dialogs: open, save (a failure in a box), save as, open images, export into a folder.
@@ -77,6 +81,7 @@ protected:
     void dropEvent(QDropEvent* event) override;
 
 private:
+    void keepOnScreen();
     void placeDocks();
     void buildStatusBar();
     void connectStudio();

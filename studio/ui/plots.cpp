@@ -24,6 +24,19 @@ QColor seriesColour(int i) {
     return colours[i % 8];
 }
 
+// A series' pen and marker: the colours repeat after eight series, so each further eight differ in line and marker
+// (ten views never show two alike).
+QPen seriesPen(int i, double width) {
+    static const Qt::PenStyle styles[] = {Qt::SolidLine, Qt::DashLine, Qt::DotLine, Qt::DashDotLine};
+    return QPen(seriesColour(i), width, styles[(i / 8) % 4]);
+}
+
+QCPScatterStyle::ScatterShape seriesMarker(int i) {
+    static const QCPScatterStyle::ScatterShape shapes[] = {QCPScatterStyle::ssCircle, QCPScatterStyle::ssSquare,
+                                                           QCPScatterStyle::ssTriangle, QCPScatterStyle::ssDiamond};
+    return shapes[(i / 8) % 4];
+}
+
 }  // namespace
 
 Plot::Plot(const QString& name, QWidget* parent) : QWidget(parent), name_(name) {
@@ -109,8 +122,10 @@ ConvergencePlot::ConvergencePlot(QWidget* parent) : Plot("convergence", parent) 
     plot_->yAxis->setTicker(QSharedPointer<QCPAxisTickerLog>(new QCPAxisTickerLog));
     plot_->yAxis->setNumberFormat("eb");  // 10^-3, not 0.001
     plot_->yAxis->setNumberPrecision(0);
-    plot_->yAxis->setLabel("relMSE against the reference (or the view chosen with Shift+1-9)");
-    caption_->setText("Each view's error against its reference as it refines (log-log).");
+    plot_->yAxis->setLabel("relMSE");  // (a long label was cut at the plot's height)
+    caption_->setText(
+        "Each view's relMSE against its reference (or the view chosen with Shift+1-9) as it refines, "
+        "log-log.");
     redraw();
 }
 
@@ -133,8 +148,8 @@ void ConvergencePlot::redraw() {
     for (std::size_t i = 0; i < points_.size(); ++i) {
         QCPGraph* graph = plot_->addGraph();
         graph->setName(i < names_.size() ? names_[i] : QString::number(i));
-        graph->setPen(QPen(seriesColour(int(i)), 2));
-        graph->setScatterStyle(QCPScatterStyle(QCPScatterStyle::ssCircle, 5));
+        graph->setPen(seriesPen(int(i), 2));
+        graph->setScatterStyle(QCPScatterStyle(seriesMarker(int(i)), 5));
         for (const ConvergencePoint& p : points_[i]) {
             const double x = overTime_ ? p.seconds : double(p.spp);
             if (!(x > 0.0) || !(p.relMSE > 0.0)) continue;  // log axes

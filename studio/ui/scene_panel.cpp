@@ -77,6 +77,7 @@ ScenePanel::ScenePanel(Session& session, QWidget* parent) : QWidget(parent), ses
 
 std::vector<ScenePanel::Field> ScenePanel::fields() const {
     std::vector<Field> out;
+    if (session_.path().isEmpty()) return out;  // no project (an image-only session): no scene
     const nlohmann::json j = projectToJson(session_.project());
     out.push_back({"camera", "", "", {}});
     for (const char* key : {"position", "target", "fovY"})

@@ -718,39 +718,103 @@ void requireSupportedVersion(const JsonField& field) {
 
 // ---------------------------------------------------------------------------------------------------------------------
 
-Scene readScene(const JsonField& root, const ReadContext& context, UniqueNames& lightNames, UniqueNames& mediumNames) {
+// Registers the name of an element that failed to read, when it has a valid one (a view naming it then adds nothing).
+void keepName(const JsonField& f, UniqueNames& names) {
+    try {
+        names.add(f, readName(f));
+    } catch (const InputError&) {
+    }
+}
+
+// Every error of a project, not only its first: each section and each element of the top-level arrays is read on
+// its own, and the errors (up to kMaxReportedErrors) are thrown together at the end, the first one's location first.
+// An element that failed still registers its name when it has one, so that later references to it add no errors.
+class ErrorList {
+public:
+    template <typename F>
+    void attempt(F&& read) {
+        try {
+            read();
+        } catch (const InputError& e) {
+            errors_.push_back(e);
+        }
+    }
+    // An element of a named kind: `read` reads it and registers its name; when it fails, its name is registered
+    // anyway if it has a valid one.
+    template <typename F>
+    void attemptElement(const JsonField& f, UniqueNames& names, F&& read) {
+        attempt([&] {
+            try {
+                read();
+            } catch (const InputError&) {
+                keepName(f, names);
+                throw;
+            }
+        });
+    }
+    void throwIfAny() const {
+        if (errors_.empty()) return;
+        if (errors_.size() == 1) throw errors_.front();
+        std::string message = errors_.front().message();
+        const std::size_t shown = std::min(errors_.size(), kMaxReportedErrors);
+        for (std::size_t i = 1; i < shown; ++i)
+            message += "\n" + std::string(errors_[i].what());
+        if (errors_.size() > shown)
+            message += "\n... and " + std::to_string(errors_.size() - shown) + " more errors (fix these first)";
+        else
+            message += "\n(" + std::to_string(errors_.size()) + " errors)";
+        throw InputError(errors_.front().where(), message);
+    }
+
+private:
+    static constexpr std::size_t kMaxReportedErrors = 20;
+    std::vector<InputError> errors_;
+};
+
+Scene readScene(const JsonField& root, const ReadContext& context, UniqueNames& lightNames, UniqueNames& mediumNames,
+                ErrorList& errors) {
     Scene scene;
-    scene.camera = readCamera(root["camera"]);
+    errors.attempt([&] { scene.camera = readCamera(root["camera"]); });
     forEachElement(root["media"], [&](const JsonField& f) {
-        scene.media.push_back(readMedium(f));
-        mediumNames.add(f, scene.media.back().name);
+        errors.attemptElement(f, mediumNames, [&] {
+            scene.media.push_back(readMedium(f));
+            mediumNames.add(f, scene.media.back().name);
+        });
     });
     std::size_t particleCount = 0;
     forEachElement(root["particleMedia"], [&](const JsonField& f) {
-        scene.particleMedia.push_back(readParticleMedium(f));
-        mediumNames.add(f, scene.particleMedia.back().name);
-        const ParticleMedium& m = scene.particleMedia.back();
-        particleCount += m.particles.size() + (m.generator ? std::size_t(m.generator->count) : 0);
-        if (particleCount > kMaxTotalParticles) {
-            f.fail("the project's particle media hold " + std::to_string(particleCount) +
-                   " particles up to here; at most " + std::to_string(kMaxTotalParticles) +
-                   " in all (each costs memory in every renderer)");
-        }
+        errors.attemptElement(f, mediumNames, [&] {
+            scene.particleMedia.push_back(readParticleMedium(f));
+            mediumNames.add(f, scene.particleMedia.back().name);
+            const ParticleMedium& m = scene.particleMedia.back();
+            particleCount += m.particles.size() + (m.generator ? std::size_t(m.generator->count) : 0);
+            if (particleCount > kMaxTotalParticles) {
+                f.fail("the project's particle media hold " + std::to_string(particleCount) +
+                       " particles up to here; at most " + std::to_string(kMaxTotalParticles) +
+                       " in all (each costs memory in every renderer)");
+            }
+        });
     });
     forEachElement(root["lights"], [&](const JsonField& f) {
-        readLight(f, scene);
-        lightNames.add(f, readName(f));
+        errors.attemptElement(f, lightNames, [&] {
+            readLight(f, scene);
+            lightNames.add(f, readName(f));
+        });
     });
     UniqueNames materialNames("material", "materials");
     forEachElement(root["materials"], [&](const JsonField& f) {
-        scene.materials.push_back(readMaterial(f));
-        materialNames.add(f, scene.materials.back().name);
+        errors.attemptElement(f, materialNames, [&] {
+            scene.materials.push_back(readMaterial(f));
+            materialNames.add(f, scene.materials.back().name);
+        });
     });
     UniqueNames meshNames("mesh", "meshes");
     forEachElement(root["meshes"], [&](const JsonField& f) {
-        scene.meshes.push_back(readMesh(f, context));
-        meshNames.add(f, scene.meshes.back().name);
-        requireKnownName(f["material"], scene.meshes.back().material, materialNames);
+        errors.attempt([&] {
+            scene.meshes.push_back(readMesh(f, context));
+            meshNames.add(f, scene.meshes.back().name);
+            requireKnownName(f["material"], scene.meshes.back().material, materialNames);
+        });
     });
     return scene;
 }
@@ -768,13 +832,17 @@ Project projectFromJson(const TechniqueCatalogue& techniques, const nlohmann::js
     Project project;
     project.name = root["name"].stringOr("");
     UniqueNames lightNames("light", "lights"), mediumNames("medium", "media");
-    project.scene = readScene(root, context, lightNames, mediumNames);
+    ErrorList errors;
+    project.scene = readScene(root, context, lightNames, mediumNames, errors);
     UniqueNames viewNames("view", "views");
     forEachElement(root["views"], [&](const JsonField& f) {
-        project.views.push_back(readView(techniques, f, lightNames, mediumNames));
-        viewNames.add(f, project.views.back().name);
+        errors.attempt([&] {
+            project.views.push_back(readView(techniques, f, lightNames, mediumNames));
+            viewNames.add(f, project.views.back().name);
+        });
     });
-    project.reference = readReference(root["reference"]);
+    errors.attempt([&] { project.reference = readReference(root["reference"]); });
+    errors.throwIfAny();
     return project;
 }
 

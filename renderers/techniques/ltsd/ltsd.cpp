@@ -68,6 +68,12 @@ std::vector<ParamInfo> LtsdTechnique::parameters() const {
     return p;
 }
 
+std::string LtsdTechnique::labelFor(const ParamSet& params) const {
+    // Without shadows it is the paper's noise-free unshadowed image; with them, the ratio estimators of Sec. 6.
+    const std::string& shadows = params.getEnum("shadows");
+    return shadows == "off" ? "LTSD (unshadowed)" : "LTSD (" + shadows + " shadows)";
+}
+
 Support LtsdTechnique::supports(const HomogeneousMedium& medium) const {
     const std::string refusal = ltsdPhaseRefusal(toString(medium.phase.kind));
     if (!refusal.empty())

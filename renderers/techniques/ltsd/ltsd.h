@@ -22,7 +22,8 @@ public:
     ~LtsdTechnique() override;
 
     std::string name() const override { return "ltsd"; }
-    std::string displayName() const override { return "LTSD (unshadowed)"; }
+    std::string displayName() const override { return "LTSD"; }
+    std::string labelFor(const ParamSet& params) const override;
     std::vector<ParamInfo> parameters() const override;
 
     Support supports(const HomogeneousMedium& medium) const override;

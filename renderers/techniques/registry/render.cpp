@@ -63,25 +63,6 @@ std::string viewField(const Project& project, const View& view) {
     return "views[" + std::to_string(&view - project.views.data()) + "]";
 }
 
-ParamSet paramsFromJson(const Technique& technique, const nlohmann::json& values, const std::string& field) {
-    ParamSet params = technique.defaultParams();
-    for (const auto& [key, value] : values.items()) {
-        ParamValue v;
-        if (value.is_boolean()) v = value.get<bool>();
-        else if (value.is_number_integer()) v = value.get<std::int64_t>();
-        else if (value.is_number()) v = value.get<double>();
-        else if (value.is_string()) v = value.get<std::string>();
-        else if (value.is_array() && value.size() == 3) v = Rgb(value[0].get<double>(), value[1].get<double>(), value[2].get<double>());
-        else throw InputError(InputLocation{"", 0, 0, field + "." + key}, "unsupported value " + value.dump());
-        try {
-            params.set(key, v);
-        } catch (const InputError& e) {
-            throw InputError(InputLocation{"", 0, 0, field + "." + key}, e.message());
-        }
-    }
-    return params;
-}
-
 std::string projectDirOf(const std::string& projectPath) {
     std::filesystem::path dir = std::filesystem::path(projectPath).parent_path();
     return dir.empty() ? std::string(".") : dir.string();
@@ -166,6 +147,31 @@ void fillReferenceJob(RenderJob& job, const Project& project, const std::string&
 }
 
 }  // namespace
+
+ParamSet paramsFromJson(const Technique& technique, const nlohmann::json& values, const std::string& field) {
+    ParamSet params = technique.defaultParams();
+    for (const auto& [key, value] : values.items()) {
+        ParamValue v;
+        if (value.is_boolean())
+            v = value.get<bool>();
+        else if (value.is_number_integer())
+            v = value.get<std::int64_t>();
+        else if (value.is_number())
+            v = value.get<double>();
+        else if (value.is_string())
+            v = value.get<std::string>();
+        else if (value.is_array() && value.size() == 3)
+            v = Rgb(value[0].get<double>(), value[1].get<double>(), value[2].get<double>());
+        else
+            throw InputError(InputLocation{"", 0, 0, field + "." + key}, "unsupported value " + value.dump());
+        try {
+            params.set(key, v);
+        } catch (const InputError& e) {
+            throw InputError(InputLocation{"", 0, 0, field + "." + key}, e.message());
+        }
+    }
+    return params;
+}
 
 RenderJob makeViewJob(const Project& project, const std::string& projectPath, const std::string& viewName,
                       const JobOptions& options) {

@@ -169,6 +169,19 @@ private slots:
         const QRectF visible = visiblePart(QSize(40, 30), state);
         QCOMPARE(visible.width(), 10.0);
         QCOMPARE(visible.center(), QPointF(20.0, 15.0));
+
+        // With a difference or false-colour mode, the colour bar at the bottom (its top 30 px above the frame's end)
+        // never covers a caption (issue 33: it covered the bottom-right tile's, also in the exported viewport.png).
+        for (bool falseColour : {false, true}) {
+            CompositorState bars;
+            bars.diff = falseColour ? DiffMode::Off : DiffMode::Signed;
+            bars.tonemap = falseColour ? Tonemap::FalseColour : Tonemap::Srgb;
+            for (QSize frame : {QSize(400, 300), QSize(900, 260), QSize(300, 600)})
+                for (const QRect& r : viewRects(frames, bars, frame))
+                    QVERIFY2(
+                        r.bottom() + 36 <= frame.height() - 30,
+                        qPrintable(QString("caption to %1 in a frame of %2").arg(r.bottom() + 36).arg(frame.height())));
+        }
     }
 
     void composesWhatTheViewsShow() {

@@ -32,6 +32,7 @@
 #include <QFileInfo>
 #include <QLabel>
 #include <QListWidget>
+#include <QMenu>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
@@ -59,6 +60,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <set>
 
@@ -94,6 +96,17 @@ inline int distinctColours(const QImage& image) {
         for (int x = 0; x < image.width(); x += 3)
             colours.insert(image.pixel(x, y));
     return int(colours.size());
+}
+
+// Accepts the message box that shows within `ms` (a modal one blocks the test's call), its text into `text`.
+inline void acceptMessageBoxSoon(QString* text, int ms = 500) {
+    QTimer::singleShot(ms, [text] {
+        for (QWidget* w : QApplication::topLevelWidgets())
+            if (auto* box = qobject_cast<QMessageBox*>(w); box && box->isVisible()) {
+                *text = box->text();
+                box->accept();
+            }
+    });
 }
 
 // A class of flow cases: its initTestCase puts the shared window on the default project, settled, with the default

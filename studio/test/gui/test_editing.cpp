@@ -317,6 +317,63 @@ private slots:
         QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 120000);
     }
 
+    // What each view is, said where a user looks (issue 33): an LTSD view with ratio shadows is not labelled
+    // "(unshadowed)" and follows its shadows parameter; a view that leaves out part of the scene says "partial" in the
+    // Views list with what and why in its tooltip; the Add menu offers a technique that can render nothing of the scene
+    // (ISV without particle media) disabled, with the reason; a view that is its own reference says so instead of
+    // relMSE 0 and an infinite PSNR.
+    void labelsWhatEachViewIs() {
+        QVERIFY(window_->openProject(kDefaultProject, false));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 120000);
+        Studio& studio = window_->studio();
+        Session& session = studio.session();
+        QCOMPARE(session.project().views[2].technique, std::string("ltsd"));
+        QVERIFY2(!studio.frames()[2].technique.contains("unshadowed"), qPrintable(studio.frames()[2].technique));
+        QVERIFY(studio.frames()[2].technique.contains("shadows"));
+        session.setParameter(2, "shadows", "off");
+        QCOMPARE(studio.frames()[2].technique, QString("LTSD (unshadowed)"));
+        session.undoStack()->undo();
+        QVERIFY(!studio.frames()[2].technique.contains("unshadowed"));
+
+        auto* menu = window_->findChild<QMenu*>("addViewMenu");
+        QVERIFY(menu);
+        emit menu->aboutToShow();
+        QAction *isv = nullptr, *wvds = nullptr;
+        for (QAction* a : menu->actions()) {
+            if (a->data().toString() == "isv") isv = a;
+            if (a->data().toString() == "wvds") wvds = a;
+        }
+        QVERIFY(isv && wvds);
+        QVERIFY(!isv->isEnabled());
+        QVERIFY2(!isv->toolTip().isEmpty(), "no reason given");
+        QVERIFY(wvds->isEnabled());
+
+        QString error;
+        QVERIFY2(session.addView("pegoraro", &error), qPrintable(error));
+        const int added = int(session.project().views.size()) - 1;
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 120000);
+        const ViewFrame& pegoraro = studio.frames()[std::size_t(added)];
+        QVERIFY(pegoraro.image && pegoraro.image->metadata.count("leftOut"));
+        auto* list = window_->findChild<QListWidget*>("viewList");
+        QVERIFY(list);
+        QVERIFY2(list->item(added)->text().contains("partial"), qPrintable(list->item(added)->text()));
+        QVERIFY2(list->item(added)->toolTip().contains(QString::fromStdString(pegoraro.image->metadata.at("leftOut"))),
+                 qPrintable(list->item(added)->toolTip()));
+        session.undoStack()->undo();
+
+        // A path-traced view with the reference's settings and seed is its reference: said so.
+        ViewFrame same = studio.frames()[1];
+        same.metrics = Metrics{};
+        same.metrics->relMSE = 0.0;
+        same.metrics->psnr = std::numeric_limits<double>::infinity();
+        same.metricsImage = same.metricsAgainst = same.image;
+        same.snapshot.reset();
+        same.alternate.reset();
+        const QString caption = tileCaption(same, false, 800, window_->font()).join(" ");
+        QVERIFY2(caption.contains("identical to its reference") && !caption.contains("inf"), qPrintable(caption));
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 120000);
+    }
+
     // Authoring a view keeps every other view's images, references, metrics and convergence history (issue 33: each
     // add, rename, duplicate or remove sent every view back to "rendering..." and cleared the history); only the new
     // view renders, and nothing else is queued for the others.

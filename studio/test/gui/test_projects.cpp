@@ -21,19 +21,99 @@ private slots:
         file.write("{\"tyndall\": 1, \"camera\": {\"fovY\": 400}}");
         file.close();
         QString dialogText;
-        QTimer::singleShot(500, [&] {
-            for (QWidget* w : QApplication::topLevelWidgets())
-                if (auto* box = qobject_cast<QMessageBox*>(w); box && box->isVisible()) {
-                    dialogText = box->text();
-                    box->accept();
-                }
-        });
+        acceptMessageBoxSoon(&dialogText);
         QVERIFY(!window_->openProject(path, true));
         QVERIFY2(dialogText.contains("broken.json") && dialogText.contains("fovY"), qPrintable(dialogText));
         QCOMPARE(window_->studio().session().path(), kDefaultProject);
         QCOMPARE(int(window_->studio().frames().size()), 4);
         QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 120000);
         QVERIFY(window_->studio().frames()[0].image);
+    }
+
+    // A project named on the command line that does not open (truncated) is reported, and the studio stays open on
+    // the default project with the file in the recent list (issue 33: it showed the message over an empty window
+    // titled "Tyndall -  - Tyndall Studio" and exited with 2).
+    void aBadProjectOnTheCommandLineKeepsTheStudioOpen() {
+        const QString path = QString(TYNDALL_TEST_TMP) + "/truncated.json";
+        QFile file(path);
+        QVERIFY(file.open(QIODevice::WriteOnly));
+        file.write("{\"tyndall\": 1, \"camera\": {\"fovY\": 4");
+        file.close();
+        MainWindow fresh(vulkan_, kSmall);
+        fresh.studio().setRecovery(Studio::Recovery::Never);
+        fresh.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&fresh));
+        QString dialogText;
+        acceptMessageBoxSoon(&dialogText);
+        QVERIFY(!fresh.openAtStart(path, kDefaultProject));
+        QVERIFY2(dialogText.contains("truncated.json"), qPrintable(dialogText));
+        QVERIFY(fresh.isVisible());
+        QCOMPARE(fresh.studio().session().path(), kDefaultProject);
+        QVERIFY2(fresh.windowTitle().startsWith(QString::fromStdString(fresh.studio().session().project().name)),
+                 qPrintable(fresh.windowTitle()));
+        QVERIFY2(fresh.statusBar()->currentMessage().contains("truncated.json"),
+                 qPrintable(fresh.statusBar()->currentMessage()));
+        QVERIFY(fresh.studio().recentProjects().contains(QFileInfo(path).absoluteFilePath()) ||
+                fresh.studio().recentProjects().contains(path));
+        QTRY_VERIFY_WITH_TIMEOUT(fresh.studio().settled(), 120000);
+    }
+
+    // Images and no project: an image-only session, as in tev (issue 33: the default project rendered first and its
+    // 480 x 360 reference made "sizes differ"). Nothing renders; the first image is the reference of the others, with
+    // metrics, differences and export; Shift+2 makes the second one the reference. The screen is saved as a
+    // screenshot of the session (image-session.png).
+    void opensAnImageOnlySession() {
+        const QString dir = QString(TYNDALL_TEST_TMP) + "/image-session";
+        QDir(dir).removeRecursively();
+        QDir().mkpath(dir);
+        Image a = Image::rgb(64, 48), b = Image::rgb(64, 48);
+        for (int y = 0; y < 48; ++y)
+            for (int x = 0; x < 64; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    a.at(x, y, c) = 0.2f + 0.6f * float(x) / 64.0f;
+                    b.at(x, y, c) = a.at(x, y, c) * (1.0f + 0.2f * float(y) / 48.0f);
+                }
+        writeImage(a, (dir + "/a.exr").toStdString());
+        writeImage(b, (dir + "/b.exr").toStdString());
+        MainWindow fresh(vulkan_, kSmall);
+        fresh.show();
+        QVERIFY(QTest::qWaitForWindowExposed(&fresh));
+        Studio& studio = fresh.studio();
+        QElapsedTimer clock;
+        clock.start();
+        QString error;
+        QVERIFY2(studio.openImageSession({dir + "/a.exr", dir + "/b.exr"}, &error), qPrintable(error));
+        QVERIFY(studio.imageSession());
+        QCOMPARE(studio.comparison().size(), 2);
+        QCOMPARE(studio.referenceView(), 0);
+        QTRY_VERIFY_WITH_TIMEOUT(studio.frames()[1].metrics.has_value(), 10000);
+        QVERIFY(studio.settled());
+        qInfo("image-only session: metrics after %lld ms", clock.elapsed());
+        QVERIFY(studio.frames()[1].metrics->relMSE > 1e-4);
+        QCOMPARE(fresh.windowTitle(), QString("a.exr, b.exr - Tyndall Studio"));
+        // The tiles' captions: the reference says so; the other its numbers.
+        const QStringList caption0 = tileCaption(studio.frames()[0], false, 600, fresh.font());
+        QVERIFY2(caption0.join(" ").contains("reference"), qPrintable(caption0.join(" ")));
+        studio.cycleDifference();
+        const QImage shot = studio.composedFrame();
+        QVERIFY(distinctColours(shot) > 10);
+        QVERIFY(shot.save(QString(TYNDALL_TEST_TMP) + "/image-session.png"));
+        studio.cycleDifference();
+        studio.cycleDifference();
+        studio.cycleDifference();
+        // Export: both images, b against a, with its metrics.
+        QVERIFY2(studio.exportComparison(dir + "/export", &error), qPrintable(error));
+        QFile json(dir + "/export/metrics.json");
+        QVERIFY(json.open(QIODevice::ReadOnly));
+        const nlohmann::json metrics = nlohmann::json::parse(json.readAll().toStdString());
+        QCOMPARE(metrics[1]["against"], nlohmann::json("a.exr"));
+        QVERIFY(metrics[1].contains("relMSE"));
+        QVERIFY(QFile::exists(dir + "/export/b.exr.exr") || QFile::exists(dir + "/export/b.exr"));
+        // Shift+2: the second image is the reference; the first has numbers now.
+        studio.chooseReferenceView(1);
+        QTRY_VERIFY_WITH_TIMEOUT(studio.frames()[0].metrics.has_value(), 10000);
+        QVERIFY(!studio.frames()[1].metrics.has_value());
+        studio.waitForBackgroundWork();
     }
 
     // Unsaved changes are autosaved; a studio that opens the project afterwards (after a crash) recovers them as one

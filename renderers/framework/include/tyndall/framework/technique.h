@@ -69,6 +69,12 @@ public:
 
     virtual std::string name() const = 0;         // registry key, e.g. "reference"
     virtual std::string displayName() const = 0;  // for labels, e.g. "Reference (path traced)"
+    // The label of a view rendered with `params`: the display name, and what of the parameters changes what the image
+    // is (LTSD: its shadows).
+    virtual std::string labelFor(const ParamSet& params) const {
+        (void)params;
+        return displayName();
+    }
     virtual std::vector<ParamInfo> parameters() const = 0;
     ParamSet defaultParams() const { return ParamSet(parameters()); }
 

@@ -37,6 +37,9 @@ struct JobOptions {
     int threads = 0;
 };
 
+// A technique's parameters from a view's JSON over its defaults; InputError names `field`.key for a bad value.
+ParamSet paramsFromJson(const Technique& technique, const nlohmann::json& values, const std::string& field);
+
 // A job that renders view `viewName` with its technique. Throws InputError (field "view") for an unknown view, with the
 // nearest name, and when the technique cannot render the view's part.
 RenderJob makeViewJob(const Project& project, const std::string& projectPath, const std::string& viewName,
