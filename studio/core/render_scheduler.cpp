@@ -137,37 +137,28 @@ std::vector<int> RenderScheduler::followViews() {
         viewKeys.push_back(viewKeyOf(v));
     }
     // Which view each one was: the same name with the same renders first, then one renamed (the first unclaimed
-    // view with the same technique, part and parameters; a duplicate renders anew, its original keeps the name).
+    // view with the same technique, part and parameters whose name is gone; a duplicate renders anew, since its
+    // original keeps the name).
     std::vector<int> oldOf(n, -1);
     std::vector<bool> claimed(ids_.size(), false);
-    auto same = [&](std::size_t i, std::size_t o) {
-        return techniques_[o] == project.views[i].technique && partKeys_[o] == partKeys[i] &&
-               viewKeys_[o] == viewKeys[i];
-    };
-    const std::vector<std::string>& oldNames = names_;
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t o = 0; o < ids_.size(); ++o)
-            if (!claimed[o] && o < oldNames.size() && oldNames[o] == project.views[i].name && same(i, o)) {
-                oldOf[i] = int(o);
-                claimed[o] = true;
-                break;
-            }
-    for (std::size_t i = 0; i < n; ++i) {
-        if (oldOf[i] >= 0) continue;
-        bool nameTaken = false;  // a view of this name is still there: this one is its copy, not its new name
-        for (std::size_t o = 0; o < oldNames.size(); ++o)
-            nameTaken |= oldNames[o] == project.views[i].name;
-        for (std::size_t o = 0; o < ids_.size() && !nameTaken; ++o) {
-            bool stays = false;  // a view that keeps its name was not renamed
-            for (const View& v : project.views)
-                stays |= o < oldNames.size() && v.name == oldNames[o];
-            if (!claimed[o] && !stays && same(i, o)) {
-                oldOf[i] = int(o);
-                claimed[o] = true;
-                break;
-            }
+    std::set<std::string> newNames, oldNames(names_.begin(), names_.end());
+    for (const View& v : project.views)
+        newNames.insert(v.name);
+    auto claim = [&](std::size_t i, bool renamed) {
+        for (std::size_t o = 0; o < ids_.size(); ++o) {
+            const bool candidate = renamed ? !newNames.count(names_[o]) : names_[o] == project.views[i].name;
+            if (claimed[o] || !candidate || techniques_[o] != project.views[i].technique ||
+                partKeys_[o] != partKeys[i] || viewKeys_[o] != viewKeys[i])
+                continue;
+            oldOf[i] = int(o);
+            claimed[o] = true;
+            return;
         }
-    }
+    };
+    for (std::size_t i = 0; i < n; ++i)
+        claim(i, false);
+    for (std::size_t i = 0; i < n; ++i)
+        if (oldOf[i] < 0 && !oldNames.count(project.views[i].name)) claim(i, true);
     // The views that are gone: their renders stop.
     for (std::size_t o = 0; o < ids_.size(); ++o)
         if (!claimed[o]) service_->cancelView(ids_[o]);
@@ -199,13 +190,12 @@ std::vector<int> RenderScheduler::followViews() {
     viewKeys_ = std::move(viewKeys);
     states_.clear();
     techniques_.clear();
-    std::vector<std::string> names;
+    names_.clear();
     for (std::size_t i = 0; i < n; ++i) {
         states_.push_back(stateOfKey(partKeys_[i]));
         techniques_.push_back(project.views[i].technique);
-        names.push_back(project.views[i].name);
+        names_.push_back(project.views[i].name);
     }
-    names_ = std::move(names);
     viewsKey_ = viewsKey();
     return oldOf;
 }

@@ -183,14 +183,8 @@ QString Studio::title() const {
 
 void Studio::rebuildViews() {
     imageSession_ = false;  // a project opened: its views are compared against its references again
-    const Project& project = session_.project();
     scheduler_->reset();
-    std::vector<ComparisonModel::ViewInfo> views;
-    for (std::size_t i = 0; i < project.views.size(); ++i) {
-        const View& v = project.views[i];
-        views.push_back({QString::fromStdString(v.name), viewLabel(v), v.exposure, scheduler_->state(int(i))});
-    }
-    model_->reset(views);
+    model_->reset(viewInfos());
     scheduler_->renderAll();
     state_.region = QRect();
     state_.current = 0;
@@ -204,15 +198,18 @@ void Studio::rebuildViews() {
     recompose();
 }
 
-void Studio::followViews() {
-    const Project& project = session_.project();
-    const std::vector<int> oldOf = scheduler_->followViews();
+std::vector<ComparisonModel::ViewInfo> Studio::viewInfos() const {
     std::vector<ComparisonModel::ViewInfo> views;
-    for (std::size_t i = 0; i < project.views.size(); ++i) {
-        const View& v = project.views[i];
-        views.push_back({QString::fromStdString(v.name), viewLabel(v), v.exposure, scheduler_->state(int(i))});
-    }
-    model_->followViews(views, oldOf);
+    const std::vector<View>& project = session_.project().views;
+    for (std::size_t i = 0; i < project.size(); ++i)
+        views.push_back({QString::fromStdString(project[i].name), viewLabel(project[i]), project[i].exposure,
+                         scheduler_->state(int(i))});
+    return views;
+}
+
+void Studio::followViews() {
+    const std::vector<int> oldOf = scheduler_->followViews();
+    model_->followViews(viewInfos(), oldOf);
     for (std::size_t i = 0; i < oldOf.size(); ++i)
         if (oldOf[i] < 0) scheduler_->renderView(int(i));
     ++probeGeneration_;  // a probe still running names a view by its old index
@@ -292,7 +289,7 @@ QString Studio::status(QString* details) const {
     if (exporter_->running()) parts << "Exporting";
     if (parts.isEmpty() && !settled()) parts << "Working";  // a cached reference being read, a debounce
     QString text = parts.isEmpty() ? QString("Ready") : parts.join(" · ");
-    if (!text.isEmpty()) text[0] = text[0].toUpper();
+    text[0] = text[0].toUpper();
     if (stale > 0) {
         text += QString(" · %1 stale").arg(stale);
         lines << QString(

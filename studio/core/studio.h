@@ -95,9 +95,9 @@ public:
     // the reference of the first view and selectable as every view's comparand (Shift+N). Returns its index, or -1
     // with the reason.
     int openImageView(const QString& path, QString* error);
-    // An image-only session (tev-like): the project is closed (nothing renders) and the images open as views, the
-    // first one every other's reference (Shift+1-9 chooses another). False with the reasons of the images that did
-    // not open (those that did stay); none opening closes nothing.
+    // An image-only session (tev-like), in a studio without a project (refused when one is open): the images open as
+    // views and nothing renders, the first image every other's reference (Shift+1-9 chooses another). False with the
+    // reasons of the images that did not open (those that did stay).
     bool openImageSession(const QStringList& paths, QString* error);
     bool imageSession() const { return imageSession_; }
     // Authoring of the view `view`, undoable for a project view; an image view can be renamed and removed (closed),
@@ -207,6 +207,7 @@ signals:
 private:
     void rebuildViews();  // a project opened: every view starts again
     void followViews();   // after an authoring of the views: what did not change keeps its renders
+    std::vector<ComparisonModel::ViewInfo> viewInfos() const;  // the project's views, for the comparison model
     void onSceneChanged();
     void noteEdit() { editClock_.start(); }
     void requestCompose(bool now = false);  // hands the queued frame to the composer (now: even right after an edit)
