@@ -28,6 +28,16 @@ TY_FUNC void cameraRay(TY_IN(CameraParams) cam, float px, float py, TY_OUT(vec3)
     dir = normalize(cam.forward + x * cam.right + y * cam.up);
 }
 
+// The image point (pixels) that the world point p projects to, the inverse of cameraRay; `depth` is p's distance
+// along `forward` (<= 0: beside or behind the camera, where the point means nothing).
+TY_FUNC vec2 cameraPixel(TY_IN(CameraParams) cam, vec3 p, TY_OUT(float) depth) {
+    vec3 d = p - cam.position;
+    depth = dot(d, cam.forward);
+    float x = dot(d, cam.right) / (depth * cam.tanHalfFovY * cam.aspect);
+    float y = dot(d, cam.up) / (depth * cam.tanHalfFovY);
+    return vec2(0.5f * (x + 1.0f) * cam.width, 0.5f * (1.0f - y) * cam.height);
+}
+
 TY_END
 
 #endif  // TY_SHARED_CAMERA_H

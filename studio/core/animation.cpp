@@ -3,6 +3,8 @@
 #include "shared/camera.h"
 #include "tyndall/framework/shader_params.h"
 
+#include <QStringList>
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -49,7 +51,44 @@ Animation::Animation(Session& session, QObject* parent) : QObject(parent), sessi
     timer_.setInterval(kTickMs);
     connect(&timer_, &QTimer::timeout, this, &Animation::tick);
     // Another project stops the animation.
-    connect(&session_, &Session::projectReplaced, this, [this] { pause(); });
+    connect(&session_, &Session::projectReplaced, this, [this] {
+        pause();
+        emit clockChanged();
+    });
+    connect(&session_, &Session::sceneChanged, this, &Animation::clockChanged);
+}
+
+QString Animation::clockText() const {
+    QStringList media;
+    const std::vector<ParticleMedium>& all = session_.project().scene.particleMedia;
+    int simulated = 0;
+    for (const ParticleMedium& m : all)
+        simulated += bool(m.simulation);
+    for (const ParticleMedium& m : all) {
+        if (!m.simulation) continue;
+        const QString frame = QString("step %1 · %2 s")
+                                  .arg(m.simulation->steps)
+                                  .arg(m.simulation->steps * m.simulation->timeStep, 0, 'f', 2);
+        media << (simulated > 1 ? QString::fromStdString(m.name) + " " + frame : frame);
+    }
+    QString text = media.isEmpty() ? QString("step 0 · not simulated yet") : media.join("  ");
+    if (playing() && pace_ > 0.0) text += QString("  ·  %1x real time").arg(pace_, 0, 'g', 2);
+    return text;
+}
+
+QString Animation::impulsesText() const {
+    QStringList lines;
+    for (const ParticleMedium& m : session_.project().scene.particleMedia) {
+        if (!m.simulation) continue;
+        for (const ParticleImpulse& impulse : m.simulation->impulses)
+            lines << QString("%1: impulse at step %2 (%3 s), radius %4 m, %5 m/s")
+                         .arg(QString::fromStdString(m.name))
+                         .arg(impulse.step)
+                         .arg(impulse.step * m.simulation->timeStep, 0, 'f', 2)
+                         .arg(impulse.radius)
+                         .arg(impulse.speed);
+    }
+    return lines.isEmpty() ? QString("No impulses (Ctrl+click a view to push the particles)") : lines.join("\n");
 }
 
 bool Animation::available() const {
@@ -60,15 +99,18 @@ void Animation::play() {
     if (playing() || !available()) return;
     ++plays_;
     carry_.assign(session_.project().scene.particleMedia.size(), 0.0);
+    simulatedSeconds_ = wallSeconds_ = pace_ = 0.0;
     sinceAdvance_.start();
     timer_.start();
     emit playingChanged(true);
+    emit clockChanged();
 }
 
 void Animation::pause() {
     if (!playing()) return;
     timer_.stop();
     emit playingChanged(false);
+    emit clockChanged();
 }
 
 void Animation::togglePlay() {
@@ -92,6 +134,7 @@ void Animation::tick() {
         const double dt = media[i].simulation ? media[i].simulation->timeStep : ParticleSimulation{}.timeStep;
         const double owed = carry_[i] + elapsed;
         steps[i] = int(std::floor(owed / dt));
+        if (maxStepsPerFrame_ > 0) steps[i] = std::min(steps[i], maxStepsPerFrame_);
         any |= steps[i] > 0;
     }
     if (!any) return;
@@ -107,11 +150,19 @@ void Animation::tick() {
         emit refused(error);
         return;
     }
+    double advanced = 0.0;
     for (std::size_t i = 0; i < media.size(); ++i) {
         const double dt = media[i].simulation ? media[i].simulation->timeStep : ParticleSimulation{}.timeStep;
-        carry_[i] = std::max(0.0, carry_[i] + elapsed - steps[i] * dt);
+        // What is left of a step carries over; the time a frame's limit of steps dropped does not (slow motion).
+        carry_[i] = std::clamp(carry_[i] + elapsed - steps[i] * dt, 0.0, dt);
+        advanced = std::max(advanced, steps[i] * dt);
     }
+    // The pace over the last few advances (each older one weighs half as much as the next).
+    simulatedSeconds_ = 0.5 * simulatedSeconds_ + advanced;
+    wallSeconds_ = 0.5 * wallSeconds_ + elapsed;
+    pace_ = wallSeconds_ > 0.0 ? simulatedSeconds_ / wallSeconds_ : 0.0;
     sinceAdvance_.start();
+    emit clockChanged();
 }
 
 bool Animation::edit(const std::function<void(nlohmann::json&, std::size_t)>& change,
@@ -154,6 +205,10 @@ bool Animation::reset(QString* error) {
 bool Animation::addImpulse(int medium, const Vec3& position, QString* error) {
     if (medium < 0 || medium >= int(session_.project().scene.particleMedia.size())) return false;
     const double radius = impulseRadius_, speed = impulseSpeed_;
+    const ParticleMedium& m = session_.project().scene.particleMedia[std::size_t(medium)];
+    const ParticleSimulation simulation = m.simulation ? *m.simulation : ParticleSimulation{};
+    const int advance =
+        playing() ? 1 : std::max(1, int(std::lround(impulsePeakSeconds(simulation) / simulation.timeStep)));
     return edit(
         [&](nlohmann::json& sim, std::size_t) {
             const int step = sim.value("steps", 0);
@@ -162,7 +217,7 @@ bool Animation::addImpulse(int medium, const Vec3& position, QString* error) {
                                        {"position", vec3Json(position)},
                                        {"radius", radius},
                                        {"speed", speed}});
-            sim["steps"] = step + 1;
+            sim["steps"] = step + advance;
         },
         {std::size_t(medium)}, "impulse", error, -1);
 }

@@ -10,8 +10,10 @@
 
 #include <QElapsedTimer>
 #include <QObject>
+#include <QString>
 #include <QTimer>
 
+#include <algorithm>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -45,8 +47,9 @@ public:
     // Steps 0, no impulses, offset 0 in every particle medium with a simulation (its other settings stay); pauses.
     bool reset(QString* error);
     // An impulse in particle medium `medium` (index into particleMedia) at `position`, at the current step, with the
-    // click's radius and speed; the medium advances one step with it, so that its push shows at once (an impulse's step
-    // must be below `steps`). One undo step.
+    // click's radius and speed. While playing, the medium advances one step with it (an impulse's step must be below
+    // `steps`) and play shows the push; paused, it advances to the push's farthest (impulsePeakSeconds), so that the
+    // click shows what it did. One undo step.
     bool addImpulse(int medium, const Vec3& position, QString* error);
     // Moves the region of targets of `medium` to `offset` (m); edits with the same non-negative mergeId are one step.
     bool setOffset(int medium, const Vec3& offset, QString* error, int mergeId = -1);
@@ -57,14 +60,28 @@ public:
     void setImpulseRadius(double radius) { impulseRadius_ = radius; }
     void setImpulseSpeed(double speed) { impulseSpeed_ = speed; }
 
-    // Simulated time advances at wall-clock rate, in whole steps, at most this often (and only when the views are
-    // ready): a fast view sees ~30 frames a second, a slow one fewer and larger advances.
+    // The pace of play. Simulated time advances at wall-clock rate, in whole steps, at most every kTickMs and only once
+    // the views have shown the last advance; with a limit of steps per frame (> 0), a frame advances by at most that
+    // many steps and the time beyond is dropped: slow views play in slow motion, every step of the motion shown
+    // (Blender's "play every frame"), fast ones in real time. 0: real time, slow views skipping steps.
+    int maxStepsPerFrame() const { return maxStepsPerFrame_; }
+    void setMaxStepsPerFrame(int steps) { maxStepsPerFrame_ = std::max(0, steps); }
+    static constexpr int kDefaultMaxStepsPerFrame = 4;
     static constexpr int kTickMs = 33;
+
+    // What the toolbar shows: the frame ("step 45 · 0.75 s", each simulated medium by name when there are several,
+    // "not simulated" for none) and, while playing, the pace against real time ("0.12x real time").
+    QString clockText() const;
+    // The impulses (step, time) of every simulated medium, for the clock's tooltip.
+    QString impulsesText() const;
+    // Simulated seconds per wall-clock second over the last few advances of this play (0 before two advances).
+    double pace() const { return pace_; }
 
 signals:
     void playingChanged(bool playing);
     void advancing(bool during);  // around each edit of play (RenderScheduler restarts a progressive view's render)
     void refused(const QString& reason);  // play stopped: an advance was refused (the simulation's limits)
+    void clockChanged();                  // clockText() changed: a step, a play, a pause
 
 private:
     void tick();
@@ -78,6 +95,10 @@ private:
     QElapsedTimer sinceAdvance_;
     std::vector<double> carry_;  // per medium: simulated seconds owed, less than a step
     int plays_ = 0;              // each play is one undo step: its merge id
+    int maxStepsPerFrame_ = kDefaultMaxStepsPerFrame;
+    // The pace: simulated and wall-clock seconds of this play's advances, decayed so that it follows the views.
+    double simulatedSeconds_ = 0.0, wallSeconds_ = 0.0, pace_ = 0.0;
+    QElapsedTimer sincePlay_;
     double impulseRadius_ = 0.5, impulseSpeed_ = 1.0;
 };
 

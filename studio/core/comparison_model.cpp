@@ -205,6 +205,15 @@ void ComparisonModel::renderStarted(int view, bool reference, int targetSpp) {
     emit framesChanged();
 }
 
+void ComparisonModel::renderStopped(int view, bool reference) {
+    if (view < 0 || view >= size()) return;
+    ViewFrame& f = frames_[std::size_t(view)];
+    (reference ? f.referenceRendering : f.rendering) = false;
+    if (reference) f.referenceEta = -1.0;
+    emit metricsChanged();  // the status
+    emit framesChanged();
+}
+
 void ComparisonModel::renderFailed(int view, const QString& error) {
     if (view < 0 || view >= size()) return;
     frames_[std::size_t(view)].error = error;

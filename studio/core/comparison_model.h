@@ -64,6 +64,7 @@ public:
     // The scheduler's news: a render started (targetSpp: a reference's), failed before it started, or sent an image.
     void renderStarted(int view, bool reference, int targetSpp);
     void renderFailed(int view, const QString& error);
+    void renderStopped(int view, bool reference);  // cancelled, nothing on its way (the reference while playing)
     void addOutput(const RenderOutput& out);
 
     void setRegion(QRect region);  // image pixels; empty: none

@@ -164,8 +164,13 @@ QString labelOf(const ViewFrame& f, bool reference, bool compact = false) {
             if (f.spp > 1) details += QString("  %1 spp").arg(f.spp);
         }
     }
-    // A view without its own lights/media renders what its technique supports: say that the scene is not all there.
     const Image* shown = reference ? f.reference.get() : f.image.get();
+    // The frame of the particle animation the image shows (views lag behind play at their own rates).
+    if (shown && shown->metadata.count("animationFrame")) {
+        const QString frame = QString::fromStdString(shown->metadata.at("animationFrame"));
+        line += "  " + (compact ? frame.section(" (", 0, 0) : frame);
+    }
+    // A view without its own lights/media renders what its technique supports: say that the scene is not all there.
     // The Views list's tooltip says what, when the caption has no room for it.
     if (shown && shown->metadata.count("leftOut"))
         line += compact ? "  (partial: see the Views list)"
@@ -250,6 +255,32 @@ void drawLabel(QPainter& p, QRect imageRect, const QStringList& lines) {
     const QRect r(imageRect.x(), imageRect.bottom() + 3, imageRect.width(), 14);
     for (int i = 0; i < lines.size(); ++i)
         if (!lines[i].isEmpty()) p.drawText(r.translated(0, 15 * i), Qt::AlignLeft | Qt::AlignVCenter, lines[i]);
+}
+
+// The impulses' markers, from image pixels into the view's rectangle on screen, clipped to it.
+void drawMarkers(QPainter& p, QRect imageRect, QRectF visible, const std::vector<ImageMarker>& markers) {
+    if (markers.empty() || visible.isEmpty()) return;
+    const double sx = imageRect.width() / visible.width(), sy = imageRect.height() / visible.height();
+    p.save();
+    p.setClipRect(imageRect);
+    p.setRenderHint(QPainter::Antialiasing, true);
+    p.setBrush(Qt::NoBrush);
+    for (const ImageMarker& m : markers) {
+        const QPointF c(imageRect.x() + (m.centre.x() - visible.x()) * sx,
+                        imageRect.y() + (m.centre.y() - visible.y()) * sy);
+        const double rx = std::max(3.0, m.radius * sx), ry = std::max(3.0, m.radius * sy);
+        QColor colour(80, 220, 255);
+        colour.setAlphaF(float(std::clamp(m.opacity, 0.0, 1.0)));
+        p.setPen(QPen(colour, 1.5));
+        p.drawEllipse(c, rx, ry);
+        p.drawLine(c - QPointF(4, 0), c + QPointF(4, 0));
+        p.drawLine(c - QPointF(0, 4), c + QPointF(0, 4));
+        if (!m.label.isEmpty()) {
+            p.setFont(captionFont(p.font()));
+            p.drawText(c + QPointF(rx * 0.71 + 3, -ry * 0.71 - 3), m.label);
+        }
+    }
+    p.restore();
 }
 
 }  // namespace
@@ -475,6 +506,8 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
                              fitted(metrics, r.width(),
                                     {metricsLine(f), metricsLine(f, Detail::Compact), metricsLine(f, Detail::Minimal)})});
             if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);
+            if (f.image && !f.file)
+                drawMarkers(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.markers);
             continue;
         }
         const bool reference = state.layout == Layout::Single && state.showReference;
@@ -495,6 +528,8 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
         }
         drawLabel(p, r, tileCaption(f, reference, r.width(), p.font()));
         if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);
+        if (f.image && !f.file && !img.isNull())
+            drawMarkers(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.markers);
     }
     if (state.diff != DiffMode::Off) {
         drawColourBar(p, size, state.diff, scale);

@@ -57,6 +57,15 @@ struct ViewFrame {
     bool file = false;                        // an image opened from a file (image_file.h): read-only, not rendered
 };
 
+// A mark on every rendered view (not on images from files): where an impulse pushed the particles, in image pixels,
+// drawn as a circle of the push's radius with a cross at its centre, fading (opacity) as the push dies out.
+struct ImageMarker {
+    QPointF centre;
+    double radius = 0.0;   // pixels
+    double opacity = 1.0;  // (0, 1]
+    QString label;         // beside it ("push at step 45")
+};
+
 struct CompositorState {
     Layout layout = Layout::Grid;
     int current = 0;             // the view of the single and split layouts
@@ -69,6 +78,7 @@ struct CompositorState {
     QRect region;                // image pixels; empty for none: drawn on every view, metrics over it
     double zoom = 1.0;           // >= 1, the same for every view (synchronized)
     QPointF centre{0.5, 0.5};    // what the views centre on, in [0, 1]^2 of the image
+    std::vector<ImageMarker> markers;  // the recent impulses (Studio::updateImpulseMarkers)
 };
 
 // The part of an image of `size` that the views show under the zoom and centre, in image pixels.

@@ -74,10 +74,32 @@ RenderScheduler::RenderScheduler(Session& session, Background& background, QObje
     debounce_.setInterval(kDebounceMs);
     // References restart once the edits of their part pause (a drag would otherwise restart them at every step).
     connect(&debounce_, &QTimer::timeout, this, [this] {
+        if (playing_) return;  // setPlaying(false) starts them
         for (int view : dirtyParts_)
             render(view, true);
         dirtyParts_.clear();
     });
+}
+
+void RenderScheduler::setPlaying(bool playing) {
+    if (playing_ == playing) return;
+    playing_ = playing;
+    if (playing) {
+        // The references of parts already changed are out of date: their cores go to the views.
+        for (int view : dirtyParts_)
+            holdReference(view);
+    } else if (!dirtyParts_.empty()) {
+        debounce_.start();
+    }
+}
+
+void RenderScheduler::holdReference(int view) {
+    const std::size_t v = std::size_t(view);
+    if (!referencePending_[v]) return;
+    service_->cancelReference(ids_[v]);
+    referenceGeneration_[v] = nextGeneration_++;  // an output already on its way is dropped
+    referencePending_[v] = false;
+    emit stopped(view, true);
 }
 
 RenderScheduler::~RenderScheduler() { service_->cancelAll(); }
@@ -244,9 +266,10 @@ void RenderScheduler::sceneEdited() {
         emit stateChanged(i, states_[std::size_t(i)]);
         dirtyViews_.insert(i);
         dirtyParts_.insert(i);
+        if (playing_) holdReference(i);
     }
     flushDirty();
-    if (!dirtyParts_.empty()) debounce_.start();
+    if (!dirtyParts_.empty() && !playing_) debounce_.start();
 }
 
 void RenderScheduler::render(int view, bool reference) {

@@ -54,6 +54,10 @@ public:
     quint64 state(int view) const;  // of the view's part: images of one state compare (never 0)
     // While the animation plays, a progressive view's render in flight is replaced at once by the next frame's.
     void setAnimating(bool animating) { animating_ = animating; }
+    // While the animation plays, references wait (each would be out of date at the next frame, and would take the
+    // cores from the views): those of changed parts are cancelled, and they all start once play pauses.
+    void setPlaying(bool playing);
+    bool playing() const { return playing_; }
     // Every view shows (or is done with) the current state: the animation may advance.
     bool viewsCaughtUp() const;
     // Nothing is queued, running or waiting for its debounce.
@@ -69,12 +73,14 @@ signals:
     // A render was submitted (targetSpp: what it renders to; a reference's) or could not be made (the job's error).
     void started(int view, bool reference, int targetSpp);
     void failed(int view, const QString& error);
+    void stopped(int view, bool reference);  // a render was cancelled and nothing replaces it yet
     // An image (progressive or final) or a failure of the current generation.
     void output(const tyndall::studio::RenderOutput& out);
     void stateChanged(int view, quint64 state);
 
 private:
     void render(int view, bool reference);
+    void holdReference(int view);  // cancels the view's reference render until the play pauses
     int indexOfId(int id) const;  // the view a task's id stands for now; -1 when it was removed
     void flushDirty();
     void onOutput(const RenderOutput& out);
@@ -105,6 +111,7 @@ private:
     QTimer debounce_;
     quint64 nextGeneration_ = 1;
     bool animating_ = false;
+    bool playing_ = false;
 };
 
 }  // namespace tyndall::studio

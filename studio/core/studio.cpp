@@ -2,7 +2,9 @@
 #include "image_file.h"
 #include "trace.h"
 
+#include "shared/camera.h"
 #include "tyndall/core/geometry.h"
+#include "tyndall/framework/shader_params.h"
 #include "tyndall/techniques/registry.h"
 #include "tyndall/techniques/render.h"
 
@@ -24,6 +26,9 @@ namespace {
 
 // Right after an edit, the frame that would only mark the view as rendering waits this long for the new image.
 constexpr qint64 kEditQuietMs = 150;
+// An impulse is marked on the views for this long of simulated time after it (the default spring's push peaks at
+// 0.24 s and has mostly died out by 1.5 s).
+constexpr double kImpulseMarkerSeconds = 1.5;
 
 }  // namespace
 
@@ -72,6 +77,7 @@ Studio::Studio(std::vector<std::string> overrides, QObject* parent)
     connect(&session_, &Session::sceneChanged, this, &Studio::onSceneChanged);
     connect(scheduler_, &RenderScheduler::started, model_, &ComparisonModel::renderStarted);
     connect(scheduler_, &RenderScheduler::failed, model_, &ComparisonModel::renderFailed);
+    connect(scheduler_, &RenderScheduler::stopped, model_, &ComparisonModel::renderStopped);
     connect(scheduler_, &RenderScheduler::stateChanged, model_, &ComparisonModel::setState);
     connect(scheduler_, &RenderScheduler::output, this, [this](const RenderOutput& out) {
         model_->addOutput(out);
@@ -91,6 +97,10 @@ Studio::Studio(std::vector<std::string> overrides, QObject* parent)
     connect(animation_, &Animation::advancing, this, [this](bool during) { scheduler_->setAnimating(during); });
     connect(animation_, &Animation::refused, this,
             [this](const QString& reason) { say("Animation stopped: " + reason); });
+    connect(animation_, &Animation::playingChanged, scheduler_, &RenderScheduler::setPlaying);
+    // The impulses' markers follow the scene (an impulse, a step, the camera).
+    connect(&session_, &Session::sceneChanged, this, &Studio::updateImpulseMarkers);
+    connect(&session_, &Session::projectReplaced, this, &Studio::updateImpulseMarkers);
 }
 
 Studio::~Studio() {
@@ -271,7 +281,7 @@ QString Studio::status(QString* details) const {
         if (reference) {
             references << f.name;
             progress = referenceProgress(f);  // "reference 24/64 spp, ETA 10 s"
-            if (progress.isEmpty()) progress = "reference queued";
+            if (progress.isEmpty()) progress = scheduler_->playing() ? "reference after the pause" : "reference queued";
             if (firstProgress.isEmpty()) firstProgress = shortName(f.name) + " " + progress.mid(10);
         }
         QStringList what;
@@ -281,6 +291,7 @@ QString Studio::status(QString* details) const {
         lines << f.name + ": " + (what.isEmpty() ? QString("ready") : what.join(", "));
     }
     QStringList parts;
+    if (animation_->playing()) parts << "Playing";
     if (views.size() == 1) parts << "Rendering " + shortName(views.front());
     if (views.size() > 1) parts << QString("Rendering %1 views").arg(views.size());
     if (references.size() == 1) parts << "reference " + firstProgress;
@@ -533,6 +544,33 @@ void Studio::setRegion(QRect region) {
 }
 
 // --- The camera and the animation
+
+void Studio::updateImpulseMarkers() {
+    std::vector<ImageMarker> markers;
+    const Scene& scene = session_.project().scene;
+    const shader::CameraParams camera = toCameraParams(scene.camera);
+    for (const ParticleMedium& m : scene.particleMedia) {
+        if (!m.simulation) continue;
+        for (const ParticleImpulse& impulse : m.simulation->impulses) {
+            const double age = (m.simulation->steps - impulse.step) * m.simulation->timeStep;
+            if (age < 0.0 || age > kImpulseMarkerSeconds) continue;
+            float depth = 0.0f;
+            const glm::vec2 pixel = shader::cameraPixel(camera, glm::vec3(impulse.position), depth);
+            if (!(depth > 0.0f)) continue;
+            // The push's radius at its depth, in pixels (the field of view spans the image height).
+            const double radius = impulse.radius / (double(depth) * camera.tanHalfFovY) * 0.5 * camera.height;
+            markers.push_back({QPointF(pixel.x, pixel.y), radius, std::max(0.3, 1.0 - age / kImpulseMarkerSeconds),
+                               QString("push, step %1").arg(impulse.step)});
+        }
+    }
+    if (markers.size() == state_.markers.size() &&
+        std::equal(markers.begin(), markers.end(), state_.markers.begin(), [](const auto& a, const auto& b) {
+            return a.centre == b.centre && a.radius == b.radius && a.opacity == b.opacity && a.label == b.label;
+        }))
+        return;
+    state_.markers = std::move(markers);
+    recompose();
+}
 
 void Studio::orbitCamera(double yaw, double pitch) {
     QString error;

@@ -209,6 +209,8 @@ private:
     void followViews();   // after an authoring of the views: what did not change keeps its renders
     std::vector<ComparisonModel::ViewInfo> viewInfos() const;  // the project's views, for the comparison model
     void onSceneChanged();
+    // The markers of the impulses of the last kImpulseMarkerSeconds of simulated time, on the current camera.
+    void updateImpulseMarkers();
     void noteEdit() { editClock_.start(); }
     void requestCompose(bool now = false);  // hands the queued frame to the composer (now: even right after an edit)
     void recover(const QString& path);

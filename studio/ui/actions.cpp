@@ -233,8 +233,8 @@ void addStudioActions(ActionTable& table, MainWindow& window) {
                {QKeySequence("P")},
                [&studio] { studio.animation().togglePlay(); },
                "animationToolbar",
-               "Play or pause the particle simulation (P): it advances at the wall clock's rate, by as many steps as "
-               "passed, each time the views have shown the last frame",
+               "Play or pause the particle simulation (P): each time the views have shown the last frame it advances "
+               "by the time that passed, up to the pace's steps a frame (the box beside it)",
                true});
     table.add({"stepAnimation",
                animation,

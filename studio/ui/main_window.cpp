@@ -196,6 +196,7 @@ void MainWindow::connectStudio() {
         play->setChecked(playing);
         play->setText(playing ? "&Pause" : "&Play");
     });
+    addAnimationClock();
     connect(&studio_.exporter(), &Exporter::finished, this,
             [this](bool ok, const QString& message, const QString& folder) {
                 if (ok && message.isEmpty()) {
@@ -241,6 +242,35 @@ void MainWindow::updateAnimationActions() {
         if (QAction* a = actions_->action(id); a->isEnabled() != available) a->setEnabled(available);
     QToolBar* bar = actions_->toolbar("animationToolbar", "Animation");
     if (bar->isVisibleTo(this) != available) bar->setVisible(available);
+}
+
+void MainWindow::addAnimationClock() {
+    QToolBar* bar = actions_->toolbar("animationToolbar", "Animation");
+    // The pace: how many steps a frame may advance (docs/isv.md, "Animation").
+    auto* pace = new QComboBox(bar);
+    pace->setObjectName("animationPace");
+    pace->setToolTip(
+        "How play advances: in real time (slow views skip steps), or at most this many steps a frame (slow views play "
+        "in slow motion, every step shown; fast views still in real time)");
+    pace->addItem("real time", 0);
+    for (int steps : {1, 2, 4, 8, 16})
+        pace->addItem(QString("≤ %1 step%2 a frame").arg(steps).arg(steps > 1 ? "s" : ""), steps);
+    pace->setCurrentIndex(pace->findData(studio_.animation().maxStepsPerFrame()));
+    pace->setFocusPolicy(Qt::ClickFocus);
+    connect(pace, &QComboBox::currentIndexChanged, this,
+            [this, pace](int index) { studio_.animation().setMaxStepsPerFrame(pace->itemData(index).toInt()); });
+    bar->addWidget(pace);
+    // The frame on screen, in steps and simulated seconds; the impulses in its tooltip.
+    auto* clock = new QLabel(bar);
+    clock->setObjectName("animationClock");
+    clock->setContentsMargins(8, 0, 8, 0);
+    bar->addWidget(clock);
+    auto update = [this, clock] {
+        clock->setText(studio_.animation().clockText());
+        clock->setToolTip(studio_.animation().impulsesText());
+    };
+    connect(&studio_.animation(), &Animation::clockChanged, clock, update);
+    update();
 }
 
 void MainWindow::refreshRecentMenu() {

@@ -86,6 +86,7 @@ private:
     void buildStatusBar();
     void connectStudio();
     void updateDisplay();  // what follows the display state: the layout actions, the tonemap box, the status label
+    void addAnimationClock();       // the animation toolbar's pace and its step / simulated time
     void updateAnimationActions();  // enabled, and the toolbar shown, only for a project with a particle medium
     void refreshRecentMenu();
 

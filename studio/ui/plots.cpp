@@ -4,6 +4,9 @@
 
 #include <QCheckBox>
 #include <QLabel>
+#include <QResizeEvent>
+#include <QScrollArea>
+#include <QScrollBar>
 #include <QSignalBlocker>
 #include <QSvgGenerator>
 #include <QTabWidget>
@@ -44,15 +47,47 @@ Plot::Plot(const QString& name, QWidget* parent) : QWidget(parent), name_(name) 
     layout->setContentsMargins(2, 2, 2, 2);
     plot_ = new QCustomPlot(this);
     plot_->setObjectName("plot:" + name);
-    plot_->setMinimumSize(320, 220);
+    plot_->setMinimumSize(320, 180);
     plot_->legend->setVisible(true);
-    caption_ = new QLabel(this);
+    // The caption under the plot, at most kCaptionLines lines high and scrolled beyond: in a short dock a long caption
+    // would otherwise be laid over the plot (it covered the polar plot's axis label and lower lobe).
+    caption_ = new QLabel;
     caption_->setWordWrap(true);
+    caption_->setAlignment(Qt::AlignLeft | Qt::AlignTop);
+    captionArea_ = new QScrollArea(this);
+    captionArea_->setObjectName("caption:" + name);
+    captionArea_->setWidget(caption_);
+    captionArea_->setWidgetResizable(true);
+    captionArea_->setFrameShape(QFrame::NoFrame);
+    captionArea_->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    captionArea_->setSizePolicy(QSizePolicy::Preferred, QSizePolicy::Fixed);
     layout->addWidget(plot_, 1);
-    layout->addWidget(caption_);
+    layout->addWidget(captionArea_);
+    fitCaption();
 }
 
 QString Plot::caption() const { return caption_->text(); }
+
+void Plot::setCaption(const QString& text) {
+    if (caption_->text() == text) return;
+    caption_->setText(text);
+    fitCaption();
+}
+
+void Plot::fitCaption() {
+    // The caption's height at the area's width, up to kCaptionLines lines (the rest scrolls).
+    const int lines = caption_->fontMetrics().lineSpacing() * kCaptionLines;
+    const int width = std::max(1, captionArea_->width() - captionArea_->verticalScrollBar()->sizeHint().width());
+    const int needed = caption_->text().isEmpty() ? 0 : caption_->heightForWidth(width);
+    const int height = std::min(needed, lines);
+    if (captionArea_->height() != height || captionArea_->minimumHeight() != height)
+        captionArea_->setFixedHeight(height);
+}
+
+void Plot::resizeEvent(QResizeEvent* event) {
+    QWidget::resizeEvent(event);
+    fitCaption();
+}
 
 QString Plot::title() const { return title_ ? title_->text().replace('\n', ' ') : QString(); }
 
@@ -123,7 +158,7 @@ ConvergencePlot::ConvergencePlot(QWidget* parent) : Plot("convergence", parent) 
     plot_->yAxis->setNumberFormat("eb");  // 10^-3, not 0.001
     plot_->yAxis->setNumberPrecision(0);
     plot_->yAxis->setLabel("relMSE");  // (a long label was cut at the plot's height)
-    caption_->setText(
+    setCaption(
         "Each view's relMSE against its reference (or the view chosen with Shift+1-9) as it refines, "
         "log-log.");
     redraw();
@@ -177,7 +212,7 @@ void ConvergencePlot::redraw() {
 }
 
 PdfPlot::PdfPlot(QWidget* parent) : Plot("pdf", parent) {
-    caption_->setText("Move the cursor over a view whose technique samples distances (WVDS).");
+    setCaption("Move the cursor over a view whose technique samples distances (WVDS).");
 }
 
 void PdfPlot::showProbe(const ProbeResult& result) {
@@ -202,14 +237,14 @@ void PdfPlot::showProbe(const ProbeResult& result) {
     }
     if (xMax > xMin) plot_->xAxis->setRange(xMin, xMax);
     plot_->yAxis->setRange(0.0, yMax > 0.0 ? yMax * 1.1 : 1.0);
-    caption_->setText(QString::fromStdString(result.title));
+    setCaption(QString::fromStdString(result.title));
     plot_->replot(QCustomPlot::rpQueuedReplot);  // once per pass of the event loop
 }
 
 void PdfPlot::showMessage(const QString& message) {
     plot_->clearGraphs();
     plot_->replot(QCustomPlot::rpQueuedReplot);  // once per pass of the event loop
-    caption_->setText(message);
+    setCaption(message);
 }
 
 PhasePlot::PhasePlot(Kind kind, QWidget* parent)
@@ -218,8 +253,9 @@ PhasePlot::PhasePlot(Kind kind, QWidget* parent)
         // p(theta) as the distance from the origin in the scattering plane: forward scattering points right (+x).
         plot_->xAxis->setLabel("p(theta) cos theta  [1/sr]");
         plot_->yAxis->setLabel("p(theta) sin theta  [1/sr]");
-        caption_->setText("Phase functions of the project's media in the scattering plane (the selected view's "
-                          "media bold); light arrives from the left.");
+        setCaption(
+            "Phase functions of the project's media in the scattering plane (the selected view's "
+            "media bold); light arrives from the left.");
     } else {
         plot_->yAxis->setScaleType(QCPAxis::stLogarithmic);
         plot_->yAxis->setTicker(QSharedPointer<QCPAxisTickerLog>(new QCPAxisTickerLog));
@@ -227,7 +263,7 @@ PhasePlot::PhasePlot(Kind kind, QWidget* parent)
         plot_->yAxis->setNumberPrecision(0);
         plot_->xAxis->setLabel("cos theta");
         plot_->yAxis->setLabel("p  [1/sr]");
-        caption_->setText("Phase functions of the project's media over the cosine of the scattering angle (log).");
+        setCaption("Phase functions of the project's media over the cosine of the scattering angle (log).");
     }
     redraw();
 }
@@ -340,7 +376,7 @@ void LtsdPolarPlot::redraw() {
     if (!fit_.table) {
         extent_ = 0.0;
         setTitle(fit_.message);
-        caption_->setText(fit_.message);
+        setCaption(fit_.message);
         plot_->legend->setVisible(false);
         plot_->xAxis->setLabel("");
         plot_->xAxis->setRange(-1.0, 1.0);
@@ -473,11 +509,13 @@ void LtsdPolarPlot::redraw() {
     setTitle(QString("HG g = %1 and its LTSD fit: error bound %2")
                  .arg(g, 0, 'f', 3)
                  .arg(err.bound, 0, 'e', 1));
-    caption_->setText(
-        QString("Medium '%1' of view '%2': Henyey-Greenstein with g = %3 (orange) against its LTSD fit (blue, "
-                "dashed) in a plane through omega_o (up: towards the viewer; forward scattering points down), as in the "
-                "LTSD paper's Fig. 12. The fit is two pieces, one per hemisphere, and jumps at the horizon. Its error at this g%4: total variation %5 (upper), %6 "
-                "(lower); the integral of the phase function over any region is off by at most %7.")
+    setCaption(
+        QString(
+            "Medium '%1' of view '%2': Henyey-Greenstein with g = %3 (orange) against its LTSD fit (blue, "
+            "dashed) in a plane through omega_o (up: towards the viewer; forward scattering points down), as in the "
+            "LTSD paper's Fig. 12. The fit is two pieces, one per hemisphere, and jumps at the horizon. Its error at "
+            "this g%4: total variation %5 (upper), %6 (lower); the integral of the phase function over any region is "
+            "off by at most %7.")
             .arg(fit_.medium, fit_.view)
             .arg(g, 0, 'f', 3)
             .arg(clamped ? QString(" (the table clamps g to %1)").arg(double(table.gMax), 0, 'f', 2) : QString())
@@ -506,7 +544,7 @@ void LtsdErrorPlot::showFit(const LtsdFit& fit) {
     if (!fit.table || !fit.errorCurve) {
         const QString message = fit.message.isEmpty() ? QString("No medium selected.") : fit.message;
         setTitle(message);
-        caption_->setText(message);
+        setCaption(message);
         plot_->legend->setVisible(false);
         plot_->replot(QCustomPlot::rpQueuedReplot);
         return;
@@ -550,12 +588,12 @@ void LtsdErrorPlot::showFit(const LtsdFit& fit) {
         plot_->yAxis->setRange(l, h > l ? h : 10.0 * l);
     }
     setTitle(QString("LTSD fit error against g; g = %1: bound %2").arg(fit.g, 0, 'f', 3).arg(here.bound, 0, 'e', 1));
-    caption_->setText(QString("How well the LTSD table (%1) fits HG at each g: the total-variation distance of each "
-                              "hemisphere's fit (in [0, 2]) and the resulting bound on the error of any region's "
-                              "integral of the phase function. Marked: medium '%2' of view '%3' at g = %4 (bound %5).")
-                          .arg(QString::fromStdString(table.path), fit.medium, fit.view)
-                          .arg(fit.g, 0, 'f', 3)
-                          .arg(here.bound, 0, 'e', 2));
+    setCaption(QString("How well the LTSD table (%1) fits HG at each g: the total-variation distance of each "
+                       "hemisphere's fit (in [0, 2]) and the resulting bound on the error of any region's "
+                       "integral of the phase function. Marked: medium '%2' of view '%3' at g = %4 (bound %5).")
+                   .arg(QString::fromStdString(table.path), fit.medium, fit.view)
+                   .arg(fit.g, 0, 'f', 3)
+                   .arg(here.bound, 0, 'e', 2));
     plot_->replot(QCustomPlot::rpQueuedReplot);
 }
 

@@ -34,6 +34,7 @@ class QCPItemStraightLine;
 class QCPTextElement;
 class QTabWidget;
 class QLabel;
+class QScrollArea;
 
 namespace tyndall::studio {
 
@@ -51,6 +52,8 @@ public:
 
 protected:
     void setTitle(const QString& text);
+    void setCaption(const QString& text);
+    void resizeEvent(QResizeEvent* event) override;
     // The legend in a column of its own right of the axes, where it hides no curve.
     void legendOutside();
     QCustomPlot* plot_;
@@ -58,6 +61,9 @@ protected:
     QCPTextElement* title_ = nullptr;
 
 private:
+    void fitCaption();
+    static constexpr int kCaptionLines = 3;
+    QScrollArea* captionArea_;
     QString name_;
 };
 

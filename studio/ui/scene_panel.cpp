@@ -25,6 +25,18 @@ QDoubleSpinBox* spinBox(double value) {
     spin->setSingleStep(0.05);
     spin->setValue(value);
     spin->setKeyboardTracking(false);  // one edit per value typed, not per key
+    // Its size hint fits the range's widest text ("-1000000.0000"): a vec3 row of three would need a horizontal scroll
+    // bar in the dock's default width. It may shrink to what a value of this scene needs instead.
+    spin->setMinimumWidth(64);
+    return spin;
+}
+
+// A component of a vec3 row: without arrows, which would take a third of its width (the arrow keys, and the wheel
+// once it has the focus, still step it).
+QDoubleSpinBox* componentSpinBox(double value) {
+    QDoubleSpinBox* spin = spinBox(value);
+    spin->setButtonSymbols(QAbstractSpinBox::NoButtons);
+    spin->setMinimumWidth(48);
     return spin;
 }
 
@@ -193,7 +205,7 @@ void ScenePanel::addField(const Field& field) {
         layout->setContentsMargins(0, 0, 0, 0);
         std::array<QDoubleSpinBox*, 3> spins{};
         for (int c = 0; c < 3; ++c) {
-            spins[std::size_t(c)] = spinBox(value[std::size_t(c)].get<double>());
+            spins[std::size_t(c)] = componentSpinBox(value[std::size_t(c)].get<double>());
             spins[std::size_t(c)]->setObjectName(QString("scene:%1[%2]").arg(name).arg(c));
             layout->addWidget(spins[std::size_t(c)]);
         }

@@ -163,6 +163,27 @@ std::vector<Particle> simulateParticles(std::vector<Particle> particles, const P
     return particles;
 }
 
+double impulsePeakSeconds(const ParticleSimulation& sim, double limit) {
+    const double k = sim.stiffness, c = sim.viscosity;
+    if (k <= 0.0) return c > 0.0 ? std::min(limit, 3.0 / c) : limit;
+    // x(t) for x(0) = 0, x'(0) = v: the roots of r^2 + c r + k = 0 decide its shape; x'(t) = 0 at the peak.
+    const double omega0 = std::sqrt(k), zeta = c / (2.0 * omega0);
+    double t;
+    if (zeta < 1.0) {
+        // Underdamped: x = v e^{-zeta w0 t} sin(wd t) / wd, x' = 0 where tan(wd t) = wd / (zeta w0).
+        const double omegaD = omega0 * std::sqrt(1.0 - zeta * zeta);
+        t = std::atan2(omegaD, zeta * omega0) / omegaD;
+    } else if (zeta == 1.0) {
+        t = 1.0 / omega0;  // critically damped: x = v t e^{-w0 t}
+    } else {
+        // Overdamped: x = v (e^{r1 t} - e^{r2 t}) / (r1 - r2), r2 < r1 < 0; x' = 0 where r1 e^{r1 t} = r2 e^{r2 t}.
+        const double root = omega0 * std::sqrt(zeta * zeta - 1.0);
+        const double r1 = -zeta * omega0 + root, r2 = -zeta * omega0 - root;
+        t = std::log(r2 / r1) / (r1 - r2);
+    }
+    return std::min(limit, t);
+}
+
 std::vector<double> legendreToMonomial(const std::vector<double>& a) {
     // The monomial coefficients of P_n by Bonnet's recurrence (n + 1) P_{n+1} = (2n + 1) mu P_n - n P_{n-1}: the same
     // numbers as Eq. 13's explicit sum, without its large factorials.

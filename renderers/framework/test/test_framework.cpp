@@ -1,10 +1,12 @@
 // The framework's shared pieces on their own: what every technique relies on without restating it.
 #include "shared/accumulation.h"
+#include "shared/camera.h"
 #include "tyndall/core/error.h"
 #include "tyndall/framework/gpu_accumulation.h"
 #include "tyndall/framework/kernel_cache.h"
 #include "tyndall/framework/progressive.h"
 #include "tyndall/framework/row_loop.h"
+#include "tyndall/framework/shader_params.h"
 
 #include <gtest/gtest.h>
 
@@ -18,6 +20,33 @@
 
 namespace tyndall {
 namespace {
+
+// ---------------------------------------------------------------------------------------------------------------------
+// The camera: cameraPixel inverts cameraRay (the studio draws its markers with it)
+
+TEST(Camera, APointOnThePixelsRayProjectsBackToThePixel) {
+    Camera camera;
+    camera.position = Vec3(0.2, 1.5, 4.6);
+    camera.target = Vec3(0.0, 0.9, 0.0);
+    camera.fovY = 40.0;
+    camera.width = 320;
+    camera.height = 240;
+    const shader::CameraParams cam = toCameraParams(camera);
+    for (const glm::vec2 pixel : {glm::vec2(0.5f, 0.5f), glm::vec2(160.0f, 120.0f), glm::vec2(319.5f, 17.25f)}) {
+        glm::vec3 o, d;
+        shader::cameraRay(cam, pixel.x, pixel.y, o, d);
+        for (const float t : {0.5f, 3.0f, 40.0f}) {
+            float depth = 0.0f;
+            const glm::vec2 back = shader::cameraPixel(cam, o + t * d, depth);
+            EXPECT_NEAR(back.x, pixel.x, 1e-3f);
+            EXPECT_NEAR(back.y, pixel.y, 1e-3f);
+            EXPECT_NEAR(depth, t * glm::dot(d, cam.forward), 1e-4f * t);
+        }
+    }
+    float depth = 1.0f;
+    shader::cameraPixel(cam, cam.position - cam.forward, depth);
+    EXPECT_LT(depth, 0.0f) << "behind the camera";
+}
 
 // ---------------------------------------------------------------------------------------------------------------------
 // The row loop

@@ -5,6 +5,7 @@
 #include "tyndall/core/text.h"
 #include "tyndall/techniques/registry.h"
 
+#include <cstdio>
 #include <filesystem>
 
 namespace tyndall {
@@ -105,6 +106,22 @@ void noteLeftOut(RenderJob& job, const Project& project, const View& view, const
     job.metadata["leftOut"] = joined;
 }
 
+// Which frame of the particle animation the job renders, for the image's caption and metadata ("animationFrame"):
+// "step 45 (0.75 s)", each simulated medium by name when there are several.
+void noteAnimationFrame(RenderJob& job) {
+    std::vector<const ParticleMedium*> simulated;
+    for (const ParticleMedium& m : job.request.scene.particleMedia)
+        if (m.simulation) simulated.push_back(&m);
+    std::string frame;
+    for (const ParticleMedium* m : simulated) {
+        char text[96];
+        std::snprintf(text, sizeof(text), "step %d (%.2f s)", m->simulation->steps,
+                      m->simulation->steps * m->simulation->timeStep);
+        frame += (frame.empty() ? "" : "; ") + (simulated.size() > 1 ? m->name + " " : std::string()) + text;
+    }
+    if (!frame.empty()) job.metadata["animationFrame"] = frame;
+}
+
 void fillViewJob(RenderJob& job, const Project& project, const std::string& projectPath, const View& view,
                  const JobOptions& options) {
     job.technique = createTechnique(view.technique);
@@ -119,6 +136,7 @@ void fillViewJob(RenderJob& job, const Project& project, const std::string& proj
     job.metadata["view"] = view.name;
     job.metadata["projectHash"] = projectHash(project);
     noteLeftOut(job, project, view, *job.technique);
+    noteAnimationFrame(job);
 }
 
 // The reference of `view`'s part, or of the whole scene when it is null.
@@ -144,6 +162,7 @@ void fillReferenceJob(RenderJob& job, const Project& project, const std::string&
     applyOptions(job.request, options);
     job.metadata["reference"] = "true";
     job.metadata["projectHash"] = projectHash(project);
+    noteAnimationFrame(job);
 }
 
 }  // namespace

@@ -126,9 +126,11 @@ private slots:
     }
 
     // A Ctrl+click on the ISV view adds one impulse at the current step, on the camera ray through the pixel inside the
-    // cloud, and steps once with it: the particles near it are pushed away, those beyond its radius move as without it.
+    // cloud, and (paused) steps to the push's farthest: the particles near it are pushed away, those beyond its radius
+    // move as without it; a marker on every view shows where it pushed.
     void ctrlClickAddsAnImpulse() {
         QTest::keyClick(window_->viewport(), Qt::Key_1);  // the ISV view alone: a large target
+        QString error;
         const std::shared_ptr<const Image> before = currentIsv();
         const int s = steps();
         const std::size_t impulsesBefore = smoke().simulation->impulses.size();
@@ -143,7 +145,10 @@ private slots:
         QTRY_COMPARE(smoke().simulation->impulses.size(), impulsesBefore + 1);
         const ParticleImpulse impulse = smoke().simulation->impulses.back();
         QCOMPARE(impulse.step, s);
-        QCOMPARE(steps(), s + 1);
+        // Paused, the click advances to the push's farthest (0.24 s, 14 steps, with the default spring): visible.
+        const int peakSteps = int(std::lround(impulsePeakSeconds(*smoke().simulation) / smoke().simulation->timeStep));
+        QVERIFY(peakSteps > 5);
+        QCOMPARE(steps(), s + peakSteps);
         QCOMPARE(impulse.radius, window_->studio().animation().impulseRadius());
         QCOMPARE(impulse.speed, window_->studio().animation().impulseSpeed());
         for (int c = 0; c < 3; ++c)
@@ -171,9 +176,10 @@ private slots:
         for (std::size_t i = 0; i < pushed.size(); ++i) {
             const double d = glm::length(rest[i].centre - impulse.position);
             if (d < impulse.radius * 0.9) {
+                // Moved from where it would be, away from the impulse (the spring is linear: the push's
+                // displacement keeps the direction it was given, however the targets drift meanwhile).
                 ++near;
-                QVERIFY(glm::length(pushed[i].centre - impulse.position) >
-                        glm::length(unpushed[i].centre - impulse.position));
+                QVERIFY(glm::dot(pushed[i].centre - unpushed[i].centre, rest[i].centre - impulse.position) > 0.0);
             } else if (d >= impulse.radius) {
                 ++far;
                 QVERIFY(pushed[i].centre == unpushed[i].centre);
@@ -183,6 +189,37 @@ private slots:
         const std::shared_ptr<const Image> after = currentIsv();
         QVERIFY(before && after && !samePixels(*after, *before));
         shoot("impulse");
+        // A marker where it pushed: on the clicked pixel (the impulse is on its ray), its radius on screen, drawn on
+        // the view and nowhere else.
+        const std::vector<ImageMarker> markers = window_->studio().compositorState().markers;
+        QCOMPARE(markers.size(), std::size_t(1));
+        QVERIFY2(std::abs(markers[0].centre.x() - (pixel.x() + 0.5)) < 0.01 &&
+                     std::abs(markers[0].centre.y() - (pixel.y() + 0.5)) < 0.01,
+                 qPrintable(QString("%1 %2 for %3 %4")
+                                .arg(markers[0].centre.x())
+                                .arg(markers[0].centre.y())
+                                .arg(pixel.x())
+                                .arg(pixel.y())));
+        QVERIFY(markers[0].radius > 3.0 && markers[0].opacity > 0.5);
+        QVERIFY(markers[0].label.contains(QString("step %1").arg(s)));
+        {
+            const QSize size = window_->viewport()->pixelSize();
+            CompositorState unmarked = window_->studio().compositorState();
+            unmarked.markers.clear();
+            const QImage with = compose(window_->studio().frames(), window_->studio().compositorState(), size);
+            const QImage without = compose(window_->studio().frames(), unmarked, size);
+            const QRect tile = viewRects(window_->studio().frames(), unmarked, size)[0];
+            int inside = 0, outside = 0;
+            for (int y = 0; y < with.height(); ++y)
+                for (int x = 0; x < with.width(); ++x)
+                    if (with.pixel(x, y) != without.pixel(x, y)) ++(tile.contains(x, y) ? inside : outside);
+            QVERIFY2(inside > 30 && outside == 0, qPrintable(QString("%1 %2").arg(inside).arg(outside)));
+        }
+        // It fades with the push and is gone 1.5 s (simulated) after it.
+        QVERIFY(window_->studio().animation().step(120, &error));
+        QVERIFY(window_->studio().compositorState().markers.empty());
+        window_->studio().session().undoStack()->undo();
+        QCOMPARE(window_->studio().compositorState().markers.size(), std::size_t(1));
         // One undo step.
         window_->studio().session().undoStack()->undo();
         QCOMPARE(smoke().simulation->impulses.size(), impulsesBefore);
@@ -257,10 +294,77 @@ private slots:
         QCOMPARE(steps(), 0);
     }
 
+    // isv/motion.json (issue 33, problem 10): the toolbar shows the step and the simulated time; Play advances visibly,
+    // at most the pace's steps a frame, each view's image saying which step it shows and the pixels changing from
+    // frame to frame; references wait for the pause (they would be out of date at once) and start after it.
+    void motionPlaysVisiblyWithItsClock() {
+        QVERIFY(window_->openProject(kMotion, false));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 240000);
+        auto* clock = window_->findChild<QLabel*>("animationClock");
+        auto* pace = window_->findChild<QComboBox*>("animationPace");
+        QVERIFY(clock && pace && clock->isVisible() && pace->isVisible());
+        QCOMPARE(clock->text(), QString("step 45 · 0.75 s"));
+        QVERIFY2(clock->toolTip().contains("impulse at step 10"), qPrintable(clock->toolTip()));
+        QCOMPARE(pace->currentData().toInt(), Animation::kDefaultMaxStepsPerFrame);
+        const std::shared_ptr<const Image> start = currentIsv();
+        QVERIFY(start && start->metadata.count("animationFrame"));
+        QCOMPARE(QString::fromStdString(start->metadata.at("animationFrame")), QString("step 45 (0.75 s)"));
+
+        int referenceStarts = 0;
+        const QMetaObject::Connection counting =
+            connect(&window_->studio().scheduler(), &RenderScheduler::started, this,
+                    [&](int, bool reference, int) { referenceStarts += reference; });
+        QTest::keyClick(window_->viewport(), Qt::Key_P);
+        QVERIFY(window_->studio().animation().playing());
+        QElapsedTimer clockTime;
+        clockTime.start();
+        std::vector<std::shared_ptr<const Image>> images = {start};
+        std::vector<int> stepsShown = {45};
+        bool statusSaidPlaying = false, paceShown = false;
+        while (images.size() < 6 && clockTime.elapsed() < 120000) {
+            QTest::qWait(10);
+            statusSaidPlaying |= window_->studio().status().startsWith("Playing");
+            paceShown |= clock->text().contains("x real time");
+            const ViewFrame& f = window_->studio().frames()[0];
+            if (!f.image || f.image == images.back()) continue;
+            const QString frame = QString::fromStdString(f.image->metadata.at("animationFrame"));
+            const int step = frame.section(' ', 1, 1).toInt();
+            // The caption names the frame the tile shows; the clock is at it or ahead (the view lags play).
+            QVERIFY2(tileCaption(f, false, 2000, window_->font()).join(" ").contains("step " + QString::number(step)),
+                     qPrintable(tileCaption(f, false, 2000, window_->font()).join(" | ")));
+            QVERIFY(clock->text().section(' ', 1, 1).toInt() >= step);
+            images.push_back(f.image);
+            stepsShown.push_back(step);
+        }
+        QTest::keyClick(window_->viewport(), Qt::Key_P);
+        QVERIFY(!window_->studio().animation().playing());
+        disconnect(counting);
+        QVERIFY2(images.size() == 6, qPrintable(QString::number(images.size())));
+        QVERIFY(statusSaidPlaying && paceShown);
+        for (std::size_t i = 1; i < images.size(); ++i) {
+            // Forward by at most the pace's steps a frame (the cloud still moves here: it settles by step ~250),
+            // and the pixels show it.
+            QVERIFY2(stepsShown[i] > stepsShown[i - 1] &&
+                         stepsShown[i] - stepsShown[i - 1] <= Animation::kDefaultMaxStepsPerFrame,
+                     qPrintable(QString("%1 after %2").arg(stepsShown[i]).arg(stepsShown[i - 1])));
+            QVERIFY2(!samePixels(*images[i], *images[i - 1]), qPrintable(QString::number(i)));
+        }
+        QCOMPARE(referenceStarts, 0);
+        // After the pause the references render the frame play stopped at, and the view compares against it.
+        QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 240000);
+        const ViewFrame& f = window_->studio().frames()[0];
+        QVERIFY(f.reference && f.referenceState == f.state && f.imageState == f.state && f.metrics);
+        QCOMPARE(QString::fromStdString(f.reference->metadata.at("animationFrame")),
+                 clock->text().section(" · ", 0, 0) + " (" + clock->text().section(" · ", 1, 1) + ")");
+        QCOMPARE(window_->studio().status(), QString("Ready"));
+        shoot("motion-paused");
+    }
+
     void cleanupTestCase() { window_.reset(); }
 
 private:
     const QString kSmoke = TYNDALL_SOURCE_DIR "/projects/isv/smoke.json";
+    const QString kMotion = TYNDALL_SOURCE_DIR "/projects/isv/motion.json";
     QVulkanInstance* vulkan_;
     std::unique_ptr<MainWindow> window_;
 };

@@ -9,6 +9,63 @@ class ViewingTest final : public FlowCase {
 public:
     using FlowCase::FlowCase;
 
+private:
+    // At the first start's size (issue 33, problem 11): the Scene dock's rows fit its width, each field wide enough for
+    // its value, with no horizontal scroll bar (the default project, and motion.json's vec3-heavy simulation); each
+    // plot's caption sits under its plot, never over it (the ltsd-polar caption covered the axis label and the lower
+    // lobe), and the polar plot's curves lie inside its axes.
+    void docksFitAtTheirDefaultSize(MainWindow& window) {
+        for (const QString& project :
+             {QString(kDefaultProject), QString(TYNDALL_SOURCE_DIR "/projects/isv/motion.json")}) {
+            QVERIFY(window.openProject(project, false));
+            QTest::qWait(500);  // the dock's rebuild and layout are queued
+            auto* scroll = window.findChild<ScenePanel*>()->findChild<QScrollArea*>();
+            QVERIFY(scroll && scroll->isVisible());
+            QVERIFY2(!scroll->horizontalScrollBar()->isVisible(), qPrintable(project));
+            int fields = 0;
+            for (auto* spin : scroll->findChildren<QDoubleSpinBox*>()) {
+                if (!spin->isVisible()) continue;
+                ++fields;
+                const int text = spin->fontMetrics().horizontalAdvance(spin->text());
+                QVERIFY2(spin->width() >= text + 6, qPrintable(spin->objectName() + ": " + spin->text()));
+                const QRect inViewport(spin->mapTo(scroll->viewport(), QPoint(0, 0)), spin->size());
+                QVERIFY2(inViewport.right() < scroll->viewport()->width(), qPrintable(spin->objectName()));
+            }
+            QVERIFY(fields > 10);
+        }
+        QVERIFY(window.openProject(kDefaultProject, false));
+        window.studio().selectView(1);  // the light shaft: its fog's HG and the LTSD fit
+        auto* tabs = window.plots()->findChild<QTabWidget*>();
+        for (int i = 0; i < tabs->count(); ++i) {
+            tabs->setCurrentIndex(i);
+            QCoreApplication::processEvents();
+            auto* plot = static_cast<Plot*>(tabs->widget(i));
+            auto* caption = plot->findChild<QScrollArea*>("caption:" + plot->name());
+            QVERIFY(caption);
+            const QRect plotArea(plot->plot()->mapTo(plot, QPoint(0, 0)), plot->plot()->size());
+            const QRect captionArea(caption->mapTo(plot, QPoint(0, 0)), caption->size());
+            QVERIFY2(!plotArea.intersects(captionArea) && plotArea.height() >= 150,
+                     qPrintable(QString("%1: plot %2 px high, bottom %3, caption top %4")
+                                    .arg(plot->name())
+                                    .arg(plotArea.height())
+                                    .arg(plotArea.bottom())
+                                    .arg(captionArea.top())));
+            if (plot->name() != "ltsd-polar") continue;
+            plot->plot()->replot(QCustomPlot::rpImmediateRefresh);
+            QCoreApplication::processEvents();
+            const QCPRange x = plot->plot()->xAxis->range(), y = plot->plot()->yAxis->range();
+            int points = 0;
+            for (int p = 0; p < plot->plot()->plottableCount(); ++p)
+                if (auto* curve = qobject_cast<QCPCurve*>(plot->plot()->plottable(p)))
+                    for (const QCPCurveData& d : *curve->data()) {
+                        ++points;
+                        QVERIFY2(x.contains(d.key) && y.contains(d.value),
+                                 qPrintable(QString("(%1, %2) outside the axes").arg(d.key).arg(d.value)));
+                    }
+            QVERIFY(points > 100);
+        }
+    }
+
 private slots:
     void initTestCase() { startOnTheDefaultProject(); }
 
@@ -23,6 +80,7 @@ private slots:
             const QRect available = first.screen()->availableGeometry();
             QVERIFY2(first.width() >= 0.8 * available.width() && first.height() >= 0.8 * available.height(),
                      qPrintable(QString("%1 x %2").arg(first.width()).arg(first.height())));
+            docksFitAtTheirDefaultSize(first);
             first.move(available.right() - 100, available.bottom() - 100);  // mostly off the screen
             QCoreApplication::processEvents();
             first.close();  // saves its geometry

@@ -156,6 +156,12 @@ struct ParticleSimulation {
 // The particles after `simulation`'s steps (the ISV thesis' animation), in the same order.
 std::vector<Particle> simulateParticles(std::vector<Particle> particles, const ParticleSimulation& simulation);
 
+// When a particle at rest on its target, given a velocity by an impulse, is farthest from the target, in seconds: the
+// first maximum of the damped spring x'' = -stiffness x - viscosity x' with x(0) = 0 (docs/isv.md, "Impulses"). When
+// the spring has no stiffness the particle coasts to a stop and never comes back: the time it takes to cover 95 % of
+// its way (3 / viscosity), or `limit` without viscosity either. At most `limit`.
+double impulsePeakSeconds(const ParticleSimulation& simulation, double limit = 1.0);
+
 struct ParticleMedium {
     std::string name;         // unique among media
     Rgb extinction{1.0};      // 1/m, base extinction sigma per channel (one number: grey), each >= 0

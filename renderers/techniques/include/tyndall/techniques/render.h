@@ -27,7 +27,9 @@ struct RenderJob {
     // What the scene holds that this render leaves out, one line each with the reason: a view without its own
     // `lights`/`media` renders only those its technique supports. Also in the metadata as "leftOut".
     std::vector<std::string> leftOut;
-    std::map<std::string, std::string> metadata;  // written into the image on completion
+    // Written into the image on completion: the view, the project's hash, "leftOut", and for a scene with a particle
+    // simulation "animationFrame", the frame it renders ("step 45 (0.75 s)").
+    std::map<std::string, std::string> metadata;
 };
 
 struct JobOptions {
