@@ -142,10 +142,12 @@ void RenderScheduler::reset() {
     referencePending_.assign(n, false);
     progressive_.assign(n, false);
     shownState_.assign(n, 0);
+    shownGeneration_.assign(n, 0);
     submitted_.assign(n, QElapsedTimer());
     lastSeconds_.assign(n, -1.0);
     dirtyViews_.clear();
     dirtyParts_.clear();
+    sppShown_.clear();
     debounce_.stop();
 }
 
@@ -197,6 +199,7 @@ std::vector<int> RenderScheduler::followViews() {
     follow(referencePending_, false);
     follow(progressive_, false);
     follow(shownState_, quint64(0));
+    follow(shownGeneration_, quint64(0));
     follow(submitted_, QElapsedTimer());
     follow(lastSeconds_, -1.0);
     follow(ids_, -1);
@@ -296,7 +299,9 @@ void RenderScheduler::render(int view, bool reference) {
         emit failed(view, QString::fromStdString(e.what()));
         return;
     }
-    (reference ? referenceGeneration_ : generation_)[std::size_t(view)] = task.generation;
+    quint64& generation = (reference ? referenceGeneration_ : generation_)[std::size_t(view)];
+    sppShown_.erase(generation);
+    generation = task.generation;
     (reference ? referencePending_ : pending_)[std::size_t(view)] = true;
     emit started(view, reference, task.job->request.spp);
     if (!reference) {
@@ -378,7 +383,10 @@ void RenderScheduler::flushDirty() {
         if (pending_[v]) {
             const qint64 ran = submitted_[v].isValid() ? submitted_[v].elapsed() : 0;
             const bool slow = lastSeconds_[v] * 1e3 >= double(kSupersedeMs) || ran >= kSupersedeMs;
-            if (!slow) {
+            // A progressive render that has shown its first image only refines (and may be waiting in the queue
+            // behind another view's first image): the new state's first image comes first.
+            const bool refining = shownGeneration_[v] == generation_[v];
+            if (!slow && !refining) {
                 recheck = recheck < 0 ? kSupersedeMs - ran : std::min(recheck, kSupersedeMs - ran);
                 ++it;
                 continue;
@@ -424,9 +432,20 @@ void RenderScheduler::onOutput(const RenderOutput& task) {
     if (out.view < 0) return;
     const std::vector<quint64>& generations = out.reference ? referenceGeneration_ : generation_;
     if (out.generation != generations[std::size_t(out.view)]) return;  // stale: a newer render is on its way
+    // A render interrupted for another view's first image starts again from zero (RenderService): its progressive
+    // images go out only once they have more samples than the one shown.
+    if (!out.final && out.image) {
+        auto [shown, fresh] = sppShown_.try_emplace(out.generation, out.spp);
+        if (!fresh && out.spp <= shown->second) return;
+        shown->second = out.spp;
+    }
+    if (out.final) sppShown_.erase(out.generation);
     const std::size_t v = std::size_t(out.view);
     if (!out.reference && !out.final && out.image) progressive_[v] = true;
-    if (!out.reference && out.image) shownState_[v] = out.state;
+    if (!out.reference && out.image) {
+        shownState_[v] = out.state;
+        shownGeneration_[v] = out.generation;
+    }
     if (out.reference && out.error.isEmpty()) {
         // A finished reference goes to the disk cache, written in the pool (an EXR of 512 x 512 takes ~0.2 s),
         // atomically, so that a reader never sees half of it.

@@ -4,7 +4,8 @@
 // settings): the part key, hashed into the part's state. A view's own edit (parameters, exposure) re-renders the view
 // alone, at once when it is not rendering and otherwise when its render in flight is done, so that a drag shows a new
 // image at the rate the technique renders and the last state always renders; a render in flight that would hold the
-// new state back for long (it has run kSupersedeMs, or the view's last render took longer) is cancelled instead. An
+// new state back for long (it has run kSupersedeMs, or the view's last render took longer), or that has shown its
+// first image and only refines, is cancelled instead. An
 // edit of a part re-renders the views of that part and, once the edits pause (a debounce), their references. Finished
 // references are cached on disk by the hash of what they render, so that reopening a project does not start from zero.
 // Every task carries a generation; outputs of older generations are dropped here, and what passes goes out through
@@ -103,11 +104,13 @@ private:
     std::vector<bool> referencePending_;   // so is a reference render
     std::vector<bool> progressive_;        // the view's technique sent a progressive image (it may render for long)
     std::vector<quint64> shownState_;      // the state of the view's latest image
+    std::vector<quint64> shownGeneration_;  // the render that sent it (the one in flight: it only refines now)
     std::vector<QElapsedTimer> submitted_;  // when the view's render in flight was submitted
     std::vector<double> lastSeconds_;       // how long the view's last finished render took (-1: none yet)
     std::set<int> dirtyViews_;             // edited views waiting for their render in flight to finish
     std::set<int> dirtyParts_;             // views whose references restart after the debounce
     std::map<quint64, QString> cachePathOf_;  // reference renders in flight: where their result is cached
+    std::map<quint64, int> sppShown_;         // renders in flight (by generation): the spp of their last image
     QTimer debounce_;
     quint64 nextGeneration_ = 1;
     bool animating_ = false;

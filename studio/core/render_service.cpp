@@ -100,7 +100,12 @@ void RenderService::submit(RenderTask task) {
 }
 
 int RenderService::classOf(const RenderTask& task) {
-    return task.reference ? 2 : task.slow ? 1 : 0;
+    return task.reference ? 3 : task.shown ? 2 : task.slow ? 1 : 0;
+}
+
+bool RenderService::firstImageWaits(const Worker& worker) const {
+    return std::any_of(queue_.begin(), queue_.end(),
+                       [&](const RenderTask& t) { return classOf(t) < 2 && takes(worker, t); });
 }
 
 void RenderService::enqueue(RenderTask task, bool oldest) {
@@ -161,7 +166,7 @@ void RenderService::run(Worker& worker) {
         std::shared_ptr<RenderTask> task;
         {
             std::unique_lock lock(mutex_);
-            // The queue is in order: fast views, slow views, references; the first this worker takes.
+            // The queue is in order of class (first images, refinements, references); the first this worker takes.
             auto next = queue_.end();
             wake_.wait(lock, [&] {
                 if (quit_) return true;
@@ -201,6 +206,14 @@ void RenderService::run(Worker& worker) {
             partial.seconds = std::chrono::duration<double>(Clock::now() - started).count();
             trace("%s %d: image posted (%d spp)", task->reference ? "reference" : "view", task->view, spp);
             post(std::move(partial));
+            if (task->reference || task->shown) return;
+            // Its first image is out: from here on it refines, after every other view's first image.
+            std::lock_guard lock(mutex_);
+            task->shown = true;
+            if (!worker.cancel && firstImageWaits(worker)) {
+                worker.cancel = true;
+                worker.requeue = true;
+            }
         };
         bool cancelled = false;
         try {

@@ -1,10 +1,13 @@
-// Renders views and references off the GUI thread, in three classes: fast technique views (the analytic and GPU
-// techniques, ~0.1-1 s), then slow ones (progressive: the path tracer as a view, which may render for minutes), then
-// references; newest first within a class. A new task for a view (or its reference) replaces the queued one and
-// cancels the running one, so stale results are dropped rather than shown. A task of an earlier class interrupts a
-// running one of a later class on the worker it needs (a fast view a slow view or a reference, a slow view a
-// reference), which goes back to the queue and starts again afterwards: the cores serve the edit first. Outputs
-// (progressive images and the final one) arrive on the GUI thread through `output`.
+// Renders views and references off the GUI thread, in four classes: the first image of fast technique views (the
+// analytic and GPU techniques, ~0.1-1 s), then the first image of slow ones (progressive: the path tracer as a view,
+// which may render for minutes), then the refinement of views that have shown their first image, then references;
+// newest first within a class. A new task for a view (or its reference) replaces the queued one and cancels the
+// running one, so stale results are dropped rather than shown. A task of an earlier class interrupts a running one of
+// a later class on the worker it needs (a first image a refinement or a reference, and so on), which goes back to the
+// queue and starts again afterwards: the cores serve the edit first, and every affected view shows its first image
+// before any view refines (issue 31: a WVDS view waited 16 s behind the path tracer's 64 spp). A progressive render
+// that posts its first image while another view's first image waits steps aside at once. Outputs (progressive images
+// and the final one) arrive on the GUI thread through `output`.
 //
 // Workers: one for everything, and, when the machine has a hardware GPU (gpu::hardwareDeviceAvailable), a second that
 // runs only the tasks that render on it (RenderTask::gpu), concurrently with the CPU's: a GPU view's edit then neither
@@ -37,6 +40,7 @@ struct RenderTask {
     int view = 0;
     bool reference = false;
     bool slow = false;       // a technique view that renders progressively for long (its class above)
+    bool shown = false;      // its first image went out: it was interrupted while refining (the refinement class)
     bool gpu = false;        // it renders on a hardware GPU: the GPU worker may take it
     quint64 generation = 0;  // increases with every edit; outputs of older generations are stale
     quint64 state = 0;       // the state of the view's part of the scene it renders (images of one state compare)
@@ -89,7 +93,9 @@ private:
     };
     void run(Worker& worker);
     void post(RenderOutput out);
-    static int classOf(const RenderTask& task);  // 0 fast view, 1 slow view, 2 reference
+    // 0 a fast view's first image, 1 a slow view's, 2 a view's refinement, 3 a reference.
+    static int classOf(const RenderTask& task);
+    bool firstImageWaits(const Worker& worker) const;  // a queued task this worker takes is of class 0 or 1
     void enqueue(RenderTask task, bool oldest);  // at its class's place (mutex_ held)
     bool takes(const Worker& worker, const RenderTask& task) const;
     bool anyRunning() const;  // mutex_ held

@@ -63,6 +63,100 @@ private slots:
         QTRY_VERIFY_WITH_TIMEOUT(service.idle(), 60000);
     }
 
+    // Two slow views (the path tracer, and WVDS once it has sent progressive images): the second's first image does
+    // not wait for the first's accumulation. The running one steps aside (its first image out) and starts again once
+    // the waiting view has rendered (issue 31: WVDS waited 16 s behind the path tracer's 64 spp).
+    void aSlowViewsFirstImageDoesNotWaitForAnothersAccumulation() {
+        const Project project = loadProject(techniqueCatalogue(), kDefaultProject.toStdString(), kSmall);
+        JobOptions longOptions;
+        longOptions.spp = 4096;  // minutes: the second view's image can only come first if this one steps aside
+        RenderService service;
+        std::vector<RenderOutput> outputs;
+        connect(&service, &RenderService::output, [&](const RenderOutput& out) { outputs.push_back(out); });
+        RenderTask first;
+        first.view = 0;  // "everything", the path tracer
+        first.slow = true;
+        first.generation = 1;
+        first.job =
+            std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "everything", longOptions));
+        RenderTask second;
+        second.view = 1;  // "light shaft", WVDS, slow as the scheduler marks it once it sent a progressive image
+        second.slow = true;
+        second.generation = 2;
+        second.job = std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "light shaft"));
+        service.submit(first);
+        QTest::qWait(100);  // the worker has taken it
+        service.submit(second);
+        auto finalOf = [&](int view) {
+            return std::find_if(outputs.begin(), outputs.end(),
+                                [view](const RenderOutput& o) { return o.view == view && o.final; });
+        };
+        QTRY_VERIFY_WITH_TIMEOUT(finalOf(1) != outputs.end(), 60000);
+        QVERIFY(finalOf(1)->error.isEmpty() && finalOf(1)->image);
+        // The path tracer had shown at most its first image before then, and goes on afterwards.
+        const std::size_t at = std::size_t(finalOf(1) - outputs.begin());
+        int before = 0;
+        for (std::size_t i = 0; i < at; ++i)
+            before += outputs[i].view == 0;
+        QVERIFY2(before <= 1, qPrintable(QString::number(before)));
+        QTRY_VERIFY_WITH_TIMEOUT(std::any_of(outputs.begin() + std::ptrdiff_t(at), outputs.end(),
+                                             [](const RenderOutput& o) { return o.view == 0 && o.image; }),
+                                 60000);
+        service.cancelAll();
+        QTRY_VERIFY_WITH_TIMEOUT(service.idle(), 60000);
+    }
+
+    // The sun edit of the issue, on the default project, in the studio: after it, the two views it affects (the path
+    // tracer "everything" and WVDS "light shaft") each show their first image before any view shows a refinement
+    // (a second image of the new state), while the path tracer's render of the edit before is still running.
+    void everyAffectedViewsFirstImageComesBeforeAnyRefinement() {
+        Studio& studio = window_->studio();
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 120000);
+        struct Seen {
+            int view, spp;
+            bool final;
+            quint64 state;
+        };
+        std::vector<Seen> seen;
+        const QMetaObject::Connection watching =
+            connect(&studio.scheduler(), &RenderScheduler::output, this, [&](const RenderOutput& out) {
+                if (!out.reference && out.image) seen.push_back({out.view, out.spp, out.final, out.state});
+            });
+        QString error;
+        QVERIFY2(studio.session().editScene({"lights[sun].direction=[0.3, -0.42, 1.0]"}, "sun", &error),
+                 qPrintable(error));
+        // The path tracer's render of this state is running (it has shown an image) when the next edit comes.
+        QTRY_VERIFY_WITH_TIMEOUT(
+            std::any_of(seen.begin(), seen.end(),
+                        [&](const Seen& s) { return s.view == 0 && s.state == studio.frames()[0].state; }),
+            60000);
+        const std::size_t start = seen.size();
+        QVERIFY2(studio.session().editScene({"lights[sun].direction=[0.32, -0.42, 1.0]"}, "sun", &error),
+                 qPrintable(error));
+        const quint64 everything = studio.frames()[0].state, shaft = studio.frames()[1].state;
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 240000);
+        disconnect(watching);
+        std::map<int, int> images;  // per view, of the new state
+        std::optional<std::size_t> lastFirst, firstRefinement;
+        for (std::size_t i = start; i < seen.size(); ++i) {
+            const Seen& s = seen[i];
+            if (s.state != (s.view == 0 ? everything : s.view == 1 ? shaft : 0)) continue;
+            if (images[s.view]++ == 0)
+                lastFirst = i;
+            else if (!firstRefinement)
+                firstRefinement = i;
+        }
+        QVERIFY(images[0] >= 1 && images[1] >= 1);
+        QVERIFY2(images[0] + images[1] > 2, "no refinement at all: the check would be empty");
+        QVERIFY2(
+            !firstRefinement || *lastFirst < *firstRefinement,
+            qPrintable(
+                QString("the last first image came at %1, a refinement at %2").arg(*lastFirst).arg(*firstRefinement)));
+        studio.session().undoStack()->undo();
+        studio.session().undoStack()->undo();
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 240000);
+    }
+
     // With a GPU worker (on a machine with a hardware GPU; forced on here, where lavapipe shares the CPU's cores), a
     // GPU view's render runs beside a CPU one instead of interrupting it: the path tracer's progressive render goes on
     // (its spp never starts again) while the WVDS view, on the GPU, finishes.
