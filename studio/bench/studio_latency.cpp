@@ -1,8 +1,11 @@
 // The studio's responsiveness, measured in a real window (run under xvfb-run with QT_QPA_PLATFORM=xcb):
-//   xvfb-run -a -s "-screen 0 1600x1000x24" build/studio/bench/tyndall_studio_latency [--stalls | --edit VIEW]
-// - time from a parameter change to the first frame on screen that shows the updated technique view at 512 x 512 (its
-//   first progressive pass) and to its final image, per technique (the median of 5 edits, after the project has settled; references at
-//   4 spp so that they settle quickly);
+//   xvfb-run -a -s "-screen 0 1600x1000x24" build/studio/bench/tyndall_studio_latency
+//       [--stalls | --edit VIEW | --all [--json FILE]]
+// - --all: every view of every bundled project (measureAll);
+// - time from a parameter change to the first frame on screen that shows the updated technique view at 512 x 512 (a
+//   reduced image of its progressive resolution, or its first progressive pass), to its first full-resolution image,
+//   and until everything settled, per technique (the median of 6 edits, after the project has settled; references at
+//   4 spp so that they settle quickly), with the progressive resolution on and off in turn;
 // - the GUI thread's longest stall while a view re-renders on every change of the parameter panel's slider, dragged for
 //   3 s (a step every 16 ms),
 //   measured as the longest gap between the ticks of a 1 ms timer, and the longest stall while references refine;
@@ -11,14 +14,18 @@
 #include "main_window.h"
 
 #include <QApplication>
-#include <QElapsedTimer>
+#include <QDir>
 #include <QDoubleSpinBox>
+#include <QElapsedTimer>
 #include <QFile>
-#include <QSlider>
 #include <QFileInfo>
+#include <QSaveFile>
+#include <QSlider>
 #include <QStandardPaths>
 #include <QTest>
 #include <QVulkanInstance>
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -166,7 +173,89 @@ struct Edit {
     const char* project;
     const char* view;
     const char* parameter;
+    nlohmann::json values[2] = {false, true};  // set in turn
 };
+
+double percentile(std::vector<double> x, double p) {
+    if (x.empty()) return 0.0;
+    std::sort(x.begin(), x.end());
+    return x[std::min(x.size() - 1, std::size_t(p * double(x.size())))];
+}
+
+// --all [--json FILE]: every view of every bundled project (default, examples/, ltsd/, isv/), at the project's own
+// size with references at 4 spp: kEdits edits of the view's exposure (every technique renders again for it), each
+// after the project settled; from the edit to the first frame on screen that shows the view's new image (reduced or
+// not) and to its full-resolution image. The JSON is a list of {"project", "view", "technique", "firstImageMs":
+// {"median", "p95"}, "fullResolutionMs": {"median", "p95"}} and one {"stallMs": {"longest", "p99"}} over every edit.
+int measureAll(QVulkanInstance& vulkan, const QString& root, const std::string& jsonPath) {
+    constexpr int kEdits = 6;
+    QStringList projects = {root + "/projects/default.json"};
+    for (const char* folder : {"/projects/examples", "/projects/ltsd", "/projects/isv"})
+        for (const QString& name : QDir(root + folder).entryList({"*.json"}, QDir::Files, QDir::Name))
+            projects << root + folder + "/" + name;
+    nlohmann::json results = nlohmann::json::array();
+    double longestStall = 0.0, p99Stall = 0.0;
+    for (const QString& project : projects) {
+        MainWindow window(&vulkan, {"reference.spp=4"});
+        window.studio().setRecovery(Studio::Recovery::Never);
+        window.show();
+        if (!QTest::qWaitForWindowExposed(&window) || !window.openProject(project, false)) {
+            std::fprintf(stderr, "cannot open %s\n", project.toUtf8().constData());
+            return 1;
+        }
+        waitSettled(window);
+        Studio& studio = window.studio();
+        for (int view = 0; view < int(studio.session().project().views.size()); ++view) {
+            const View v = studio.session().project().views[std::size_t(view)];
+            std::vector<double> first, full;
+            for (int k = 0; k < kEdits; ++k) {
+                const auto before = studio.frames()[std::size_t(view)].image;
+                QElapsedTimer t;
+                t.start();
+                double firstMs = 0.0;
+                longestStall = std::max(
+                    longestStall, longestStallMs([&] {
+                        studio.session().setExposure(view, v.exposure + (k % 2 == 0 ? 0.25 : 0.0));
+                        while (shownImage(studio.frames()[std::size_t(view)]) == before && t.elapsed() < 600000)
+                            QTest::qWait(1);
+                        const int presented = window.viewport()->framesPresented();
+                        while (window.viewport()->framesPresented() == presented && t.elapsed() < 600000)
+                            QTest::qWait(1);
+                        firstMs = double(t.nsecsElapsed()) * 1e-6;
+                        while (studio.frames()[std::size_t(view)].image == before && t.elapsed() < 600000)
+                            QTest::qWait(1);
+                        full.push_back(double(t.nsecsElapsed()) * 1e-6);
+                        waitSettled(window, 5000);  // a progressive view refines for long: the next edit replaces it
+                    }));
+                p99Stall = std::max(p99Stall, lastStalls.p99Ms);
+                first.push_back(firstMs);
+            }
+            const QString name = QDir(root).relativeFilePath(project);
+            nlohmann::json entry = {
+                {"project", name.toStdString()},
+                {"view", v.name},
+                {"technique", v.technique},
+                {"firstImageMs", {{"median", percentile(first, 0.5)}, {"p95", percentile(first, 0.95)}}},
+                {"fullResolutionMs", {{"median", percentile(full, 0.5)}, {"p95", percentile(full, 0.95)}}}};
+            std::printf("%-36s %-16s %-10s first image %6.0f ms (p95 %6.0f), full resolution %6.0f ms (p95 %6.0f)\n",
+                        name.toUtf8().constData(), v.name.c_str(), v.technique.c_str(), percentile(first, 0.5),
+                        percentile(first, 0.95), percentile(full, 0.5), percentile(full, 0.95));
+            std::fflush(stdout);
+            results.push_back(std::move(entry));
+        }
+    }
+    results.push_back({{"stallMs", {{"longest", longestStall}, {"p99", p99Stall}}}});
+    std::printf("GUI thread: longest stall %.1f ms, 99th percentile %.1f ms\n", longestStall, p99Stall);
+    if (!jsonPath.empty()) {
+        QSaveFile file(QString::fromStdString(jsonPath));  // all or nothing
+        if (!file.open(QIODevice::WriteOnly) || file.write(QByteArray::fromStdString(results.dump(2) + "\n")) < 0 ||
+            !file.commit()) {
+            std::fprintf(stderr, "cannot write %s\n", jsonPath.c_str());
+            return 1;
+        }
+    }
+    return 0;
+}
 
 }  // namespace
 
@@ -185,12 +274,15 @@ int main(int argc, char** argv) {
     const Edit edits[] = {{"/projects/examples/wvds-box.json", "analytic", "shadows"},
                           {"/projects/examples/wvds-box.json", "mcwvds", "shadows"},
                           {"/projects/default.json", "light shaft", "shadows"},
-                          {"/projects/examples/pegoraro-street.json", "closed form", "shadows"}};
+                          {"/projects/examples/pegoraro-street.json", "closed form", "shadows"},
+                          {"/projects/examples/ltsd-room.json", "ltsd", "nodes", {9, 8}},
+                          {"/projects/isv/smoke.json", "isv", "fading"},
+                          {"/projects/examples/volume-ris-shaft.json", "shaft", "shadows"}};
     // --stalls: only the drag and the refinement (the edits take ~5 minutes); --edit VIEW: only the edit of that view,
     // then stop.
     const std::string option = argc > 1 ? argv[1] : "", only = argc > 2 ? argv[2] : "";
     const bool stallsOnly = option == "--stalls";
-    if (!stallsOnly) std::printf("medians of 5 edits at 512 x 512\n");
+    if (!stallsOnly) std::printf("medians of 6 edits each at 512 x 512, progressive resolution on and off in turn\n");
     for (const Edit& e : edits) {
         if (stallsOnly) break;
         if (option == "--edit" && only != e.view) continue;
@@ -204,40 +296,55 @@ int main(int argc, char** argv) {
         for (int i = 0; i < int(window.studio().session().project().views.size()); ++i)
             if (window.studio().session().project().views[std::size_t(i)].name == e.view) view = i;
         if (view < 0) return 1;
-        std::vector<double> first, final;
+        // Per mode (0: progressive resolution on, 1: off), alternately: first frame, full resolution, settled.
+        std::vector<double> first[2], full[2], final[2];
         bool value = false;
         double stall = 0.0;
-        for (int k = 0; k < 5; ++k) {
+        auto shown = [&] { return shownImage(window.studio().frames()[std::size_t(view)]); };
+        for (int k = 0; k < 12; ++k) {
+            const int mode = k % 2;
+            window.studio().scheduler().setProgressiveResolution(mode == 0);
             const auto before = window.studio().frames()[std::size_t(view)].image;
             QElapsedTimer t;
             t.start();
-            double firstMs = 0.0;
+            double firstMs = 0.0, fullMs = 0.0;
             stall = std::max(stall, longestStallMs([&] {
-                                 window.studio().session().setParameter(view, e.parameter, value);
-                                 while (window.studio().frames()[std::size_t(view)].image == before)
+                                 window.studio().session().setParameter(view, e.parameter, e.values[value]);
+                                 while (shown() == before)
                                      QTest::qWait(1);
                                  // The image was composed as it arrived; the next frame the viewport presents shows it.
                                  const int presented = window.viewport()->framesPresented();
                                  while (window.viewport()->framesPresented() == presented)
                                      QTest::qWait(1);
                                  firstMs = double(t.nsecsElapsed()) * 1e-6;
+                                 while (window.studio().frames()[std::size_t(view)].image == before)
+                                     QTest::qWait(1);
+                                 fullMs = double(t.nsecsElapsed()) * 1e-6;
                                  while (!window.studio().settled())
                                      QTest::qWait(1);
                              }));
-            first.push_back(firstMs);
-            final.push_back(double(t.nsecsElapsed()) * 1e-6);
+            first[mode].push_back(firstMs);
+            full[mode].push_back(fullMs);
+            final[mode].push_back(double(t.nsecsElapsed()) * 1e-6);
             value = !value;
         }
-        std::sort(first.begin(), first.end());
-        std::sort(final.begin(), final.end());
+        window.studio().scheduler().setProgressiveResolution(true);
         const View& v = window.studio().session().project().views[std::size_t(view)];
-        std::printf("%-24s %-12s %-10s first frame %6.0f ms (worst %6.0f), final %6.0f ms, GUI stall %.1f ms\n",
-                    QFileInfo(e.project).fileName().toUtf8().constData(), e.view, v.technique.c_str(), first[2],
-                    first.back(), final[2], stall);
+        auto median = [](std::vector<double> x) {
+            std::sort(x.begin(), x.end());
+            return 0.5 * (x[x.size() / 2 - 1] + x[x.size() / 2]);
+        };
+        for (int mode : {0, 1})
+            std::printf("%-24s %-12s %-10s %-16s first frame %6.0f ms, full resolution %6.0f ms, settled %6.0f ms\n",
+                        QFileInfo(e.project).fileName().toUtf8().constData(), e.view, v.technique.c_str(),
+                        mode == 0 ? "progressive res." : "full res. only", median(first[mode]), median(full[mode]),
+                        median(final[mode]));
+        std::printf("%-24s %-12s GUI stall %.1f ms\n", "", e.view, stall);
         std::fflush(stdout);
     }
 
     if (option == "--edit") return 0;
+    if (option == "--all") return measureAll(vulkan, root, argc > 3 && only == "--json" ? argv[3] : "");
     // A slider dragged over the WVDS view for 3 s, and the references of the default project refining.
     MainWindow window(&vulkan, k512);
     window.studio().setRecovery(Studio::Recovery::Never);

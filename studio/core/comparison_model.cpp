@@ -223,6 +223,17 @@ void ComparisonModel::renderFailed(int view, const QString& error) {
 void ComparisonModel::addOutput(const RenderOutput& out) {
     if (out.view < 0 || out.view >= size()) return;
     ViewFrame& f = frames_[std::size_t(out.view)];
+    if (out.factor > 1) {
+        // A reduced image of the progressive resolution: shown until the full one arrives, never compared, exported
+        // or plotted (the image, the pair and the metrics stay the last full ones).
+        if (!out.image) return;
+        f.preview = out.image;
+        f.previewFactor = out.factor;
+        f.previewState = out.state;
+        emit framesChanged();
+        return;
+    }
+    if (!out.reference) f.preview.reset();  // a full image (or the render's failure) of the view
     if (!out.error.isEmpty()) {
         f.error = out.error;
     } else if (out.reference) {

@@ -158,13 +158,14 @@ QString labelOf(const ViewFrame& f, bool reference, bool compact = false) {
         }
     } else {
         if (f.rendering) line += " (rendering)";
+        if (f.preview && shownImage(f) == f.preview) line += QString(" (1/%1 resolution)").arg(f.previewFactor);
         if (!compact) line += "  -  " + f.technique;
-        if (f.image && !f.file) {
+        if (f.image && !f.file && shownImage(f) == f.image) {
             details = QString("  %1 ms").arg(f.seconds * 1e3, 0, 'f', 0);
             if (f.spp > 1) details += QString("  %1 spp").arg(f.spp);
         }
     }
-    const Image* shown = reference ? f.reference.get() : f.image.get();
+    const Image* shown = reference ? f.reference.get() : shownImage(f).get();
     // The frame of the particle animation the image shows (views lag behind play at their own rates).
     if (shown && shown->metadata.count("animationFrame")) {
         const QString frame = QString::fromStdString(shown->metadata.at("animationFrame"));
@@ -341,6 +342,12 @@ QRectF visiblePart(QSize size, const CompositorState& state) {
     return QRectF(x, y, w, h);
 }
 
+const std::shared_ptr<const Image>& shownImage(const ViewFrame& frame) {
+    // The model keeps a preview only from a reduced image until the full one of its render arrives (a view's own edit
+    // does not change its state: the order of arrival, not the state, says which is newer).
+    return frame.preview ? frame.preview : frame.image;
+}
+
 const std::shared_ptr<const Image>& comparand(const ViewFrame& frame) {
     return frame.snapshot ? frame.snapshot : frame.alternate ? frame.alternate : frame.reference;
 }
@@ -448,7 +455,7 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
     const std::vector<QRect> rects = cells(frames, state, size);
     const double scale = state.diff != DiffMode::Off ? cachedDifferenceScale(frames) : 0.0;
     auto displayFull = [&](const ViewFrame& f, bool reference) -> QImage {
-        const std::shared_ptr<const Image>& img = reference ? comparand(f) : f.image;
+        const std::shared_ptr<const Image>& img = reference ? comparand(f) : shownImage(f);
         const double exposure = f.exposure + state.exposureOffset;
         if (state.diff != DiffMode::Off && !reference) {
             // Only between images of one state: the last pair that matched while the reference catches up.
@@ -524,7 +531,11 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
                                                        : QString("difference waiting for the reference");
             p.drawText(r, Qt::AlignCenter, f.error.isEmpty() ? waiting : "failed");
         } else {
+            // A reduced preview is scaled up like the full image (nearest: its pixels show), or bilinearly.
+            const bool smooth = state.smoothPreviews && !reference && f.preview && shownImage(f) == f.preview;
+            p.setRenderHint(QPainter::SmoothPixmapTransform, smooth);
             p.drawImage(r, img);
+            p.setRenderHint(QPainter::SmoothPixmapTransform, false);
         }
         drawLabel(p, r, tileCaption(f, reference, r.width(), p.font()));
         if (f.image) drawRegion(p, r, visiblePart(QSize(f.image->width(), f.image->height()), state), state.region);

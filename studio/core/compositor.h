@@ -43,6 +43,11 @@ struct ViewFrame {
     double seconds = 0.0;                     // the technique's frame time
     double exposure = 0.0;                    // the view's, EV
     bool rendering = false;                   // a newer render is on its way
+    // The progressive resolution's latest reduced image (RenderScheduler, resolution_schedule.h): shown scaled up in
+    // place of `image` until the next full image arrives, labelled, and never compared.
+    std::shared_ptr<const Image> preview;
+    int previewFactor = 1;
+    quint64 previewState = 0;
     std::optional<Metrics> metrics;           // against the reference, when both exist at the same size
     std::optional<Metrics> regionMetrics;     // the same over the user's region
     // The pair `metrics` were computed of: until a new pair's metrics arrive (~100 ms), the last ones stay shown
@@ -78,11 +83,15 @@ struct CompositorState {
     QRect region;                // image pixels; empty for none: drawn on every view, metrics over it
     double zoom = 1.0;           // >= 1, the same for every view (synchronized)
     QPointF centre{0.5, 0.5};    // what the views centre on, in [0, 1]^2 of the image
+    bool smoothPreviews = false;       // reduced images scaled up bilinearly (else nearest, showing their pixels)
     std::vector<ImageMarker> markers;  // the recent impulses (Studio::updateImpulseMarkers)
 };
 
 // The part of an image of `size` that the views show under the zoom and centre, in image pixels.
 QRectF visiblePart(QSize size, const CompositorState& state);
+
+// What a view's tile shows: the reduced preview while there is one (newer than the image), else the image.
+const std::shared_ptr<const Image>& shownImage(const ViewFrame& frame);
 
 // The image a view is compared against: its snapshot when one is chosen, else the view chosen as the reference,
 // else its reference.

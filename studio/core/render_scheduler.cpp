@@ -8,6 +8,7 @@
 
 #include <QCryptographicHash>
 #include <QDir>
+#include <QElapsedTimer>
 #include <QFile>
 #include <QFileInfo>
 #include <QStandardPaths>
@@ -58,6 +59,18 @@ quint64 stateOfKey(const std::string& partKey) {
     for (int i = 0; i < 8; ++i)
         state = (state << 8) | quint8(hash[i]);
     return state == 0 ? 1 : state;  // 0 means "no image"
+}
+
+// A view's progressive resolution, on the steady clock.
+ResolutionSchedule newSchedule() {
+    return ResolutionSchedule([] {
+        static const QElapsedTimer start = [] {
+            QElapsedTimer t;
+            t.start();
+            return t;
+        }();
+        return double(start.nsecsElapsed()) * 1e-9;
+    });
 }
 
 QString stateName(quint64 state) {
@@ -145,6 +158,7 @@ void RenderScheduler::reset() {
     shownGeneration_.assign(n, 0);
     submitted_.assign(n, QElapsedTimer());
     lastSeconds_.assign(n, -1.0);
+    schedules_.assign(n, newSchedule());
     dirtyViews_.clear();
     dirtyParts_.clear();
     sppShown_.clear();
@@ -202,6 +216,7 @@ std::vector<int> RenderScheduler::followViews() {
     follow(shownGeneration_, quint64(0));
     follow(submitted_, QElapsedTimer());
     follow(lastSeconds_, -1.0);
+    follow(schedules_, newSchedule());
     follow(ids_, -1);
     std::set<int> dirtyViews, dirtyParts;
     for (std::size_t i = 0; i < n; ++i) {
@@ -275,14 +290,15 @@ void RenderScheduler::sceneEdited() {
     if (!dirtyParts_.empty() && !playing_) debounce_.start();
 }
 
-void RenderScheduler::render(int view, bool reference) {
+bool RenderScheduler::makeTask(int view, bool reference, int factor, RenderTask& task) {
     const Project& project = session_.project();
     const View& v = project.views[std::size_t(view)];
-    RenderTask task;
     task.view = ids_[std::size_t(view)];
     task.reference = reference;
-    // The path tracer as a view, or any technique that sent progressive images, may render for minutes.
-    task.slow = !reference && (progressive_[std::size_t(view)] || v.technique == "reference");
+    task.factor = factor;
+    // The path tracer as a view, or any technique that sent progressive images, may render for minutes (a reduced
+    // stage is short).
+    task.slow = !reference && factor == 1 && (progressive_[std::size_t(view)] || v.technique == "reference");
     task.generation = nextGeneration_++;
     task.state = states_[std::size_t(view)];
     try {
@@ -290,6 +306,13 @@ void RenderScheduler::render(int view, bool reference) {
                                                          : makeViewJob(project, session_.path().toStdString(), v.name));
         // Every image carries the state of its part (exports pair a view with its reference by it).
         task.job->metadata["partHash"] = stateName(task.state).toStdString();
+        if (factor > 1) {
+            // A reduced stage: the same render at 1/factor of the resolution in each axis, for its first image.
+            Camera& camera = task.job->request.scene.camera;
+            camera.width = std::max(1, (camera.width + factor - 1) / factor);
+            camera.height = std::max(1, (camera.height + factor - 1) / factor);
+            task.job->metadata["resolutionFactor"] = std::to_string(factor);
+        }
         // A technique view that renders on a hardware GPU may run beside the CPU's renders (RenderService).
         if (!reference && task.job->request.params.find("device")) {
             const std::string& device = task.job->request.params.getEnum("device");
@@ -297,15 +320,28 @@ void RenderScheduler::render(int view, bool reference) {
         }
     } catch (const std::exception& e) {
         emit failed(view, QString::fromStdString(e.what()));
-        return;
+        return false;
     }
+    return true;
+}
+
+void RenderScheduler::render(int view, bool reference) {
+    // A view's new state starts its progressive resolution again (resolution_schedule.h).
+    if (reference) return renderStage(view, 0);
+    renderStage(view, progressiveResolution_ ? schedules_[std::size_t(view)].begin() : 1);
+}
+
+void RenderScheduler::renderStage(int view, int factor) {
+    const bool reference = factor == 0;
+    RenderTask task;
+    if (!makeTask(view, reference, std::max(factor, 1), task)) return;
     quint64& generation = (reference ? referenceGeneration_ : generation_)[std::size_t(view)];
     sppShown_.erase(generation);
     generation = task.generation;
     (reference ? referencePending_ : pending_)[std::size_t(view)] = true;
     emit started(view, reference, task.job->request.spp);
     if (!reference) {
-        trace("view %d: job made", view);
+        trace("view %d: job made (1/%d)", view, task.factor);
         submitted_[std::size_t(view)].start();
         service_->submit(std::move(task));
         return;
@@ -441,6 +477,23 @@ void RenderScheduler::onOutput(const RenderOutput& task) {
     }
     if (out.final) sppShown_.erase(out.generation);
     const std::size_t v = std::size_t(out.view);
+    if (!out.reference && out.image) {
+        // The schedule's stage delivered its first image: a reduced one goes out as a preview and the next stage
+        // replaces it (or, after an edit meanwhile, the new state's first stage).
+        const int next = schedules_[v].delivered(out.factor, out.seconds);
+        if (out.factor > 1) {
+            emit output(out);
+            if (dirtyViews_.erase(out.view))
+                render(out.view, false);
+            else
+                renderStage(out.view, next);
+            return;
+        }
+    }
+    if (out.factor > 1) {  // a reduced stage failed: the full resolution says why, or renders
+        renderStage(out.view, 1);
+        return;
+    }
     if (!out.reference && !out.final && out.image) progressive_[v] = true;
     if (!out.reference && out.image) {
         shownState_[v] = out.state;

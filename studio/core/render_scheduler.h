@@ -14,6 +14,7 @@
 
 #include "background.h"
 #include "render_service.h"
+#include "resolution_schedule.h"
 #include "session.h"
 
 #include <QElapsedTimer>
@@ -58,6 +59,9 @@ public:
     // While the animation plays, references wait (each would be out of date at the next frame, and would take the
     // cores from the views): those of changed parts are cancelled, and they all start once play pauses.
     void setPlaying(bool playing);
+    // Reduced stages after an edit (resolution_schedule.h); off, every render is at full resolution (the latency
+    // bench compares both).
+    void setProgressiveResolution(bool on) { progressiveResolution_ = on; }
     bool playing() const { return playing_; }
     // Every view shows (or is done with) the current state: the animation may advance.
     bool viewsCaughtUp() const;
@@ -81,6 +85,10 @@ signals:
 
 private:
     void render(int view, bool reference);
+    // A view's render at 1/factor of its resolution (1: full), a stage of its schedule.
+    void renderStage(int view, int factor);
+    // The task of a render, its job made; false (with `failed` emitted) when the job cannot be made.
+    bool makeTask(int view, bool reference, int factor, RenderTask& task);
     void holdReference(int view);  // cancels the view's reference render until the play pauses
     int indexOfId(int id) const;  // the view a task's id stands for now; -1 when it was removed
     void flushDirty();
@@ -107,6 +115,7 @@ private:
     std::vector<quint64> shownGeneration_;  // the render that sent it (the one in flight: it only refines now)
     std::vector<QElapsedTimer> submitted_;  // when the view's render in flight was submitted
     std::vector<double> lastSeconds_;       // how long the view's last finished render took (-1: none yet)
+    std::vector<ResolutionSchedule> schedules_;  // each view's progressive resolution (resolution_schedule.h)
     std::set<int> dirtyViews_;             // edited views waiting for their render in flight to finish
     std::set<int> dirtyParts_;             // views whose references restart after the debounce
     std::map<quint64, QString> cachePathOf_;  // reference renders in flight: where their result is cached
@@ -115,6 +124,7 @@ private:
     quint64 nextGeneration_ = 1;
     bool animating_ = false;
     bool playing_ = false;
+    bool progressiveResolution_ = true;
 };
 
 }  // namespace tyndall::studio

@@ -187,6 +187,7 @@ void RenderService::run(Worker& worker) {
         out.generation = task->generation;
         out.state = task->state;
         out.targetSpp = task->job->request.spp;
+        out.factor = task->factor;
         const auto started = Clock::now();
         trace("%s %d: worker starts", task->reference ? "reference" : "view", task->view);
         auto lastPost = started - std::chrono::hours(1);  // the first progressive image goes out at once
@@ -206,7 +207,7 @@ void RenderService::run(Worker& worker) {
             partial.seconds = std::chrono::duration<double>(Clock::now() - started).count();
             trace("%s %d: image posted (%d spp)", task->reference ? "reference" : "view", task->view, spp);
             post(std::move(partial));
-            if (task->reference || task->shown) return;
+            if (task->reference || task->shown || task->factor > 1) return;
             // Its first image is out: from here on it refines, after every other view's first image.
             std::lock_guard lock(mutex_);
             task->shown = true;

@@ -41,6 +41,7 @@ struct RenderTask {
     bool reference = false;
     bool slow = false;       // a technique view that renders progressively for long (its class above)
     bool shown = false;      // its first image went out: it was interrupted while refining (the refinement class)
+    int factor = 1;          // a reduced stage of the view's progressive resolution: 1/factor of it in each axis
     bool gpu = false;        // it renders on a hardware GPU: the GPU worker may take it
     quint64 generation = 0;  // increases with every edit; outputs of older generations are stale
     quint64 state = 0;       // the state of the view's part of the scene it renders (images of one state compare)
@@ -58,6 +59,7 @@ struct RenderOutput {
     double seconds = 0.0;
     bool final = false;
     bool cached = false;  // a reference read from the disk cache, not rendered
+    int factor = 1;       // the task's: > 1 for a reduced image (a preview, never compared)
     QString error;
 };
 

@@ -401,6 +401,11 @@ void Studio::setTonemap(Tonemap op) {
     recompose();
 }
 
+void Studio::setSmoothPreviews(bool smooth) {
+    state_.smoothPreviews = smooth;
+    recompose();
+}
+
 void Studio::cycleTonemap() {
     setTonemap(Tonemap((int(state_.tonemap) + 1) % int(tonemapNames().size())));
 }

@@ -119,6 +119,7 @@ public:
     // --- The display (compositor.h): each asks for a frame of the new state.
     void setLayoutMode(Layout layout);
     void setTonemap(Tonemap op);
+    void setSmoothPreviews(bool smooth);  // reduced images scaled up bilinearly, else nearest
     void cycleTonemap();
     void cycleDifference();  // off, signed, absolute, relative
     void swapSides();        // of the wipe

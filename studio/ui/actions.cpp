@@ -196,6 +196,16 @@ void addStudioActions(ActionTable& table, MainWindow& window) {
                    studio.offsetExposure(-0.5);
                }});
     table.add({"resetZoom", view, "Reset zoom and pan", {QKeySequence("Z")}, [&studio] { studio.resetZoom(); }});
+    table.add(
+        {"smoothPreviews",
+         view,
+         "Smooth reduced images (bilinear; else nearest)",
+         {},
+         [&studio] { studio.setSmoothPreviews(!studio.compositorState().smoothPreviews); },
+         {},
+         "After an edit a slow view shows a reduced image first (1/2 to 1/16 of its resolution), scaled up to its "
+         "tile: with its pixels visible (nearest), or smoothed (bilinear)",
+         true});
     table.add({"clearRegion",
                view,
                "Clear the metrics region",

@@ -1,6 +1,7 @@
 // The studio's core without a window (QGuiApplication on the offscreen platform): the comparison model and the
 // compositor on images made here, and the session, the render scheduler and the Studio that wires them on the
 // bundled default project at a small size. What the window shows is tested in test/gui.
+#include "resolution_schedule.h"
 #include "studio.h"
 
 #include <QDir>
@@ -57,7 +58,91 @@ bool waitFor(const std::function<bool()>& done, int ms = 240000) {
 class StudioCoreTest : public QObject {
     Q_OBJECT
 
+private:
+    // A view whose first image at 1/F of its resolution takes fixed + full / F^2 seconds, scheduled on a simulated
+    // clock: the factors of one edit's sequence, each stage's time, and the time until full resolution.
+    struct Sequence {
+        std::vector<int> factors;
+        std::vector<double> seconds;
+        double untilFull = 0.0;
+    };
+    static Sequence edit(ResolutionSchedule& schedule, double& now, double fixed, double full) {
+        Sequence s;
+        for (int f = schedule.begin(); f > 0;) {
+            const double cost = fixed + full / (double(f) * f);
+            now += cost;
+            s.factors.push_back(f);
+            s.seconds.push_back(cost);
+            s.untilFull += cost;
+            f = schedule.delivered(f);
+        }
+        return s;
+    }
+
 private slots:
+    // Issue 31's schedule on simulated timings: full resolution until a render was measured; then the first image of
+    // an edit within the 33 ms budget, the reduction halving towards full resolution, and the reduced stages costing
+    // at most 20 % of the full-resolution render they come before.
+    void resolutionScheduleMeetsTheBudgetOnSimulatedTimings() {
+        double now = 0.0;
+        ResolutionSchedule schedule([&now] { return now; });
+        QVERIFY(!schedule.predicted(1));
+        // A path tracer's first pass: 8 s at full resolution, 1 ms of it fixed.
+        Sequence first = edit(schedule, now, 0.001, 8.0);
+        QCOMPARE(first.factors, std::vector<int>{1});  // nothing measured yet
+        Sequence s = edit(schedule, now, 0.001, 8.0);
+        QCOMPARE(s.factors, (std::vector<int>{16, 8, 4, 1}));  // 1/2 (2 s) would delay full resolution too much
+        QVERIFY(s.seconds.front() <= schedule.budget());
+        QVERIFY(s.untilFull <= 1.2 * s.seconds.back());
+        QVERIFY(std::abs(*schedule.predicted(2) - (0.001 + 8.0 / 4.0)) < 1e-9);  // the model recovers the costs
+        // LTSD-like: 405 ms at full resolution; 1/4 fits the budget, 1/2 would cost too much before full resolution.
+        ResolutionSchedule ltsd([&now] { return now; });
+        edit(ltsd, now, 0.005, 0.4);
+        s = edit(ltsd, now, 0.005, 0.4);
+        QCOMPARE(s.factors, (std::vector<int>{4, 1}));
+        QVERIFY(s.seconds.front() <= ltsd.budget());
+        QVERIFY(s.untilFull <= 1.2 * s.seconds.back());
+        // WVDS-like: 100 ms. 1/2 would fit the budget (26.5 ms) but delay full resolution by 26 %: 1/4 it is.
+        ResolutionSchedule wvds([&now] { return now; });
+        edit(wvds, now, 0.002, 0.098);
+        s = edit(wvds, now, 0.002, 0.098);
+        QCOMPARE(s.factors, (std::vector<int>{4, 1}));
+        QVERIFY(s.untilFull <= 1.2 * s.seconds.back());
+        // A technique fast at full resolution (Pegoraro, 20 ms) renders no reduced image.
+        ResolutionSchedule fast([&now] { return now; });
+        edit(fast, now, 0.002, 0.018);
+        QCOMPARE(edit(fast, now, 0.002, 0.018).factors, std::vector<int>{1});
+    }
+
+    // A fixed cost that does not shrink with the image (ISV's sort and shadow maps: 300 of its 800 ms): the first
+    // guess reduces, the measurement shows that it does not pay, and the next edits render at full resolution.
+    void resolutionScheduleLearnsAFixedCost() {
+        double now = 0.0;
+        ResolutionSchedule schedule([&now] { return now; });
+        edit(schedule, now, 0.3, 0.5);
+        const Sequence guess = edit(schedule, now, 0.3, 0.5);
+        QVERIFY(guess.factors.size() == 2 && guess.factors.front() > 1 && guess.factors.back() == 1);
+        QVERIFY(std::abs(*schedule.predicted(1) - 0.8) < 1e-9 &&
+                std::abs(*schedule.predicted(16) - (0.3 + 0.5 / 256)) < 1e-9);
+        QCOMPARE(edit(schedule, now, 0.3, 0.5).factors, std::vector<int>{1});
+    }
+
+    // A new edit restarts the sequence: an image of the sequence before changes nothing, the new one goes on.
+    void resolutionScheduleRestartsOnANewEdit() {
+        double now = 0.0;
+        ResolutionSchedule schedule([&now] { return now; });
+        edit(schedule, now, 0.001, 8.0);
+        edit(schedule, now, 0.001, 8.0);
+        QCOMPARE(schedule.begin(), 16);
+        now += 0.03;
+        QCOMPARE(schedule.delivered(16), 8);
+        QCOMPARE(schedule.begin(), 16);      // the user edits again while 1/8 renders
+        QCOMPARE(schedule.delivered(8), 0);  // the old sequence's image: ignored
+        QCOMPARE(schedule.current(), 16);
+        now += 0.03;
+        QCOMPARE(schedule.delivered(16), 8);
+    }
+
     void initTestCase() {
         // The reference cache and autosaves of these tests stay apart from the user's.
         QStandardPaths::setTestModeEnabled(true);

@@ -13,6 +13,73 @@ private slots:
     void initTestCase() { startOnTheDefaultProject(); }
 
     // Turning off the light shaft's shadows re-renders that view only; undo brings the same image back.
+    // Progressive resolution (issue 31): an LTSD view at 480 x 360 (a few hundred ms a frame here) answers a parameter
+    // drag first with a reduced image, labelled, shown scaled up in its tile, never compared; then the full one.
+    void aDragShowsAReducedImageFirstThenTheFullOne() {
+        QFile source(kDefaultProject);
+        QVERIFY(source.open(QIODevice::ReadOnly));
+        nlohmann::json project = nlohmann::json::parse(source.readAll().toStdString());
+        project["views"] = nlohmann::json::array({project["views"][2]});  // "area light", LTSD
+        project["camera"]["width"] = 480;
+        project["camera"]["height"] = 360;
+        const QString path = QString(TYNDALL_TEST_TMP) + "/ltsd-alone.json";
+        {
+            QFile file(path);
+            QVERIFY(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
+            file.write(QByteArray::fromStdString(project.dump(2)));
+        }
+        QVERIFY(window_->openProject(path, false));
+        Studio& studio = window_->studio();
+        // The window's --set makes every project small: this one is large again (one edit).
+        QString error;
+        QVERIFY2(studio.session().editScene({"camera.width=480", "camera.height=360"}, "size", &error),
+                 qPrintable(error));
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 240000);  // the first render at full resolution measures its cost
+        QCOMPARE(studio.frames()[0].image->width(), 480);
+        std::vector<std::shared_ptr<const Image>> previews;
+        bool labelled = false, comparedAPreview = false;
+        for (double g : {0.6, 0.65, 0.7}) {  // a drag of the medium's g
+            QVERIFY(studio.session().editScene({"media[fog].phase.g=" + std::to_string(g)}, "g", &error, 77));
+            while (!studio.settled()) {
+                QTest::qWait(5);
+                const ViewFrame& f = studio.frames()[0];
+                if (f.preview && shownImage(f) == f.preview && (previews.empty() || previews.back() != f.preview)) {
+                    previews.push_back(f.preview);
+                    QVERIFY(f.previewFactor > 1 && f.preview->width() == (480 + f.previewFactor - 1) / f.previewFactor);
+                    labelled |= tileCaption(f, false, 2000, window_->font())
+                                    .front()
+                                    .contains(QString("(1/%1 resolution)").arg(f.previewFactor));
+                }
+                for (const auto& p : previews)
+                    comparedAPreview |= f.metricsImage == p || f.pairImage == p || f.image == p;
+            }
+        }
+        QVERIFY2(!previews.empty(), "no reduced image was shown");
+        QVERIFY(labelled);
+        QVERIFY(!comparedAPreview);
+        // Then the full image of the last state, compared, its caption without the reduction.
+        const ViewFrame& f = studio.frames()[0];
+        QVERIFY(f.image && f.imageState == f.state && f.image->width() == 480 && shownImage(f) == f.image);
+        QVERIFY(!tileCaption(f, false, 2000, window_->font()).front().contains("resolution)"));
+        QVERIFY(f.metrics && f.metricsImage == f.image);
+        // Scaled up with its pixels showing (nearest), or smoothed (View > Smooth reduced images).
+        ViewFrame reduced = f;
+        reduced.preview = previews.back();
+        reduced.previewState = reduced.state;
+        reduced.imageState = 0;
+        auto* smooth = window_->findChild<QAction*>("smoothPreviews");
+        QVERIFY(smooth && smooth->isCheckable() && !smooth->isChecked());
+        const QImage nearest = compose({reduced}, studio.compositorState(), QSize(480, 400));
+        smooth->trigger();
+        QVERIFY(studio.compositorState().smoothPreviews && smooth->isChecked());
+        const QImage bilinear = compose({reduced}, studio.compositorState(), QSize(480, 400));
+        smooth->trigger();
+        QVERIFY(!studio.compositorState().smoothPreviews);
+        QVERIFY(nearest != bilinear);
+        QVERIFY(window_->openProject(kDefaultProject, false));
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 240000);
+    }
+
     void aParameterChangesItsViewOnlyAndUndoes() {
         window_->studio().selectView(1);
         const auto before = window_->studio().frames();

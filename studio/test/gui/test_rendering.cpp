@@ -8,6 +8,18 @@ class RenderingTest final : public FlowCase {
 public:
     using FlowCase::FlowCase;
 
+private:
+    // A render task of the default project's view `name` (index `view`), as the scheduler would submit it.
+    static RenderTask viewTask(const Project& project, int view, const std::string& name, bool slow, quint64 generation,
+                               const JobOptions& options = {}) {
+        RenderTask task;
+        task.view = view;
+        task.slow = slow;
+        task.generation = generation;
+        task.job = std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), name, options));
+        return task;
+    }
+
 private slots:
     void initTestCase() { startOnTheDefaultProject(); }
 
@@ -40,16 +52,8 @@ private slots:
             if (out.view == 0 && !out.final && out.image) ++slowImages;
             if (out.final) finals.push_back(out.error.isEmpty() ? out.view : -1 - out.view);
         });
-        RenderTask slow;
-        slow.view = 0;  // "everything", the path tracer
-        slow.slow = true;
-        slow.generation = 1;
-        slow.job =
-            std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "everything", slowOptions));
-        RenderTask fast;
-        fast.view = 1;  // "light shaft", WVDS
-        fast.generation = 2;
-        fast.job = std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "light shaft"));
+        const RenderTask slow = viewTask(project, 0, "everything", true, 1, slowOptions);  // the path tracer
+        const RenderTask fast = viewTask(project, 1, "light shaft", false, 2);             // WVDS
         service.submit(slow);
         QTRY_VERIFY_WITH_TIMEOUT(slowImages > 0, 60000);  // the slow render is running
         service.submit(fast);
@@ -73,17 +77,9 @@ private slots:
         RenderService service;
         std::vector<RenderOutput> outputs;
         connect(&service, &RenderService::output, [&](const RenderOutput& out) { outputs.push_back(out); });
-        RenderTask first;
-        first.view = 0;  // "everything", the path tracer
-        first.slow = true;
-        first.generation = 1;
-        first.job =
-            std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "everything", longOptions));
-        RenderTask second;
-        second.view = 1;  // "light shaft", WVDS, slow as the scheduler marks it once it sent a progressive image
-        second.slow = true;
-        second.generation = 2;
-        second.job = std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "light shaft"));
+        const RenderTask first = viewTask(project, 0, "everything", true, 1, longOptions);  // the path tracer
+        // WVDS, slow as the scheduler marks it once it sent a progressive image.
+        const RenderTask second = viewTask(project, 1, "light shaft", true, 2);
         service.submit(first);
         QTest::qWait(100);  // the worker has taken it
         service.submit(second);
@@ -177,17 +173,9 @@ private slots:
             }
             if (out.view == 1 && out.final) fastFinals += out.error.isEmpty() ? 1 : 100;
         });
-        RenderTask slow;
-        slow.view = 0;
-        slow.slow = true;
-        slow.generation = 1;
-        slow.job =
-            std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "everything", slowOptions));
-        RenderTask fast;
-        fast.view = 1;
+        const RenderTask slow = viewTask(project, 0, "everything", true, 1, slowOptions);
+        RenderTask fast = viewTask(project, 1, "light shaft", false, 2);
         fast.gpu = true;
-        fast.generation = 2;
-        fast.job = std::make_shared<RenderJob>(makeViewJob(project, kDefaultProject.toStdString(), "light shaft"));
         service.submit(slow);
         // Past its first pass, so that a restart would show as an image of fewer samples.
         QTRY_VERIFY_WITH_TIMEOUT(lastSpp > 1, 60000);
