@@ -22,6 +22,7 @@ private slots:
         project["views"] = nlohmann::json::array({project["views"][2]});  // "area light", LTSD
         project["camera"]["width"] = 480;
         project["camera"]["height"] = 360;
+        QVERIFY(QDir().mkpath(TYNDALL_TEST_TMP));
         const QString path = QString(TYNDALL_TEST_TMP) + "/ltsd-alone.json";
         {
             QFile file(path);

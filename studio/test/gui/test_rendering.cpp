@@ -109,14 +109,14 @@ private slots:
         Studio& studio = window_->studio();
         QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 120000);
         struct Seen {
-            int view, spp;
+            int view, spp, factor;
             bool final;
             quint64 state;
         };
         std::vector<Seen> seen;
         const QMetaObject::Connection watching =
             connect(&studio.scheduler(), &RenderScheduler::output, this, [&](const RenderOutput& out) {
-                if (!out.reference && out.image) seen.push_back({out.view, out.spp, out.final, out.state});
+                if (!out.reference && out.image) seen.push_back({out.view, out.spp, out.factor, out.final, out.state});
             });
         QString error;
         QVERIFY2(studio.session().editScene({"lights[sun].direction=[0.3, -0.42, 1.0]"}, "sun", &error),
@@ -132,18 +132,18 @@ private slots:
         const quint64 everything = studio.frames()[0].state, shaft = studio.frames()[1].state;
         QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 240000);
         disconnect(watching);
-        std::map<int, int> images;  // per view, of the new state
+        // Per view of the new state: its first image (of any resolution: a reduced one counts) and its refinements
+        // (the full-resolution images after its first full-resolution one: more samples).
+        std::map<int, int> images, fullImages;
         std::optional<std::size_t> lastFirst, firstRefinement;
         for (std::size_t i = start; i < seen.size(); ++i) {
             const Seen& s = seen[i];
             if (s.state != (s.view == 0 ? everything : s.view == 1 ? shaft : 0)) continue;
-            if (images[s.view]++ == 0)
-                lastFirst = i;
-            else if (!firstRefinement)
-                firstRefinement = i;
+            if (images[s.view]++ == 0) lastFirst = i;
+            if (s.factor == 1 && fullImages[s.view]++ > 0 && !firstRefinement) firstRefinement = i;
         }
         QVERIFY(images[0] >= 1 && images[1] >= 1);
-        QVERIFY2(images[0] + images[1] > 2, "no refinement at all: the check would be empty");
+        QVERIFY2(fullImages[0] + fullImages[1] > 2, "no refinement at all: the check would be empty");
         QVERIFY2(
             !firstRefinement || *lastFirst < *firstRefinement,
             qPrintable(
