@@ -19,6 +19,11 @@ nlohmann::json vec3Json(const Vec3& v) {
     return nlohmann::json::array({v.x, v.y, v.z});
 }
 
+// A medium's simulation step (the default one's when it has no simulation yet).
+double timeStepOf(const ParticleMedium& medium) {
+    return medium.simulation ? medium.simulation->timeStep : ParticleSimulation{}.timeStep;
+}
+
 }  // namespace
 
 std::optional<Vec3> impulsePoint(const Camera& camera, const std::vector<Particle>& particles, double px, double py,
@@ -131,7 +136,7 @@ void Animation::tick() {
     std::vector<int> steps(media.size(), 0);
     bool any = false;
     for (std::size_t i = 0; i < media.size(); ++i) {
-        const double dt = media[i].simulation ? media[i].simulation->timeStep : ParticleSimulation{}.timeStep;
+        const double dt = timeStepOf(media[i]);
         const double owed = carry_[i] + elapsed;
         steps[i] = int(std::floor(owed / dt));
         if (maxStepsPerFrame_ > 0) steps[i] = std::min(steps[i], maxStepsPerFrame_);
@@ -152,7 +157,7 @@ void Animation::tick() {
     }
     double advanced = 0.0;
     for (std::size_t i = 0; i < media.size(); ++i) {
-        const double dt = media[i].simulation ? media[i].simulation->timeStep : ParticleSimulation{}.timeStep;
+        const double dt = timeStepOf(media[i]);
         // What is left of a step carries over; the time a frame's limit of steps dropped does not (slow motion).
         carry_[i] = std::clamp(carry_[i] + elapsed - steps[i] * dt, 0.0, dt);
         advanced = std::max(advanced, steps[i] * dt);

@@ -229,7 +229,6 @@ void ComparisonModel::addOutput(const RenderOutput& out) {
         if (!out.image) return;
         f.preview = out.image;
         f.previewFactor = out.factor;
-        f.previewState = out.state;
         emit framesChanged();
         return;
     }

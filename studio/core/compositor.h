@@ -47,7 +47,6 @@ struct ViewFrame {
     // place of `image` until the next full image arrives, labelled, and never compared.
     std::shared_ptr<const Image> preview;
     int previewFactor = 1;
-    quint64 previewState = 0;
     std::optional<Metrics> metrics;           // against the reference, when both exist at the same size
     std::optional<Metrics> regionMetrics;     // the same over the user's region
     // The pair `metrics` were computed of: until a new pair's metrics arrive (~100 ms), the last ones stay shown

@@ -66,7 +66,6 @@ private slots:
         // Scaled up with its pixels showing (nearest), or smoothed (View > Smooth reduced images).
         ViewFrame reduced = f;
         reduced.preview = previews.back();
-        reduced.previewState = reduced.state;
         reduced.imageState = 0;
         auto* smooth = window_->findChild<QAction*>("smoothPreviews");
         QVERIFY(smooth && smooth->isCheckable() && !smooth->isChecked());
