@@ -7,6 +7,10 @@
 // - BM_LtsdGpuTransmittancePolygon/N: one light with the polygon-averaged transmittance instead of Eq. 10.
 // - BM_LtsdGpuRatio1/denoised: N = 8, one light, one ratio sample per pixel for the shadows (GPU time; the denoiser
 //   runs on the CPU and is not in it).
+// - BM_LtsdGpuPrimaryVisibility/medium: N = 8, one light, the room with (1) and without (0) its fog, the camera hits
+//   rasterised (framework/primary_hits.h) and traced (TYNDALL_RASTER_PRIMARY=0), alternately frame by frame: GPU time
+//   of each in the counters rasterMs and tracedMs (the raster pass included). Target (issue 31) without the medium on
+//   lavapipe: <= 15 ms.
 // Every case but BM_LtsdGpuRatio1 is unshadowed (shadows = off).
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
@@ -14,6 +18,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -82,6 +87,40 @@ void BM_LtsdGpuRatio1(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_LtsdGpuRatio1)->Arg(0)->Arg(1)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
+
+void BM_LtsdGpuPrimaryVisibility(benchmark::State& state) {
+    const bool medium = state.range(0) != 0;
+    RenderJob job = frameJob(8, 1, "gpu");
+    if (!medium) {
+        const Project project = loadProject(
+            techniqueCatalogue(), kProject,
+            {"camera.width=512", "camera.height=512", "views[ltsd].parameters.device=gpu",
+             "views[ltsd].parameters.shadows=off", "views[ltsd].lights=[\"ceiling panel\"]", "views[ltsd].media=[]"});
+        job = makeViewJob(project, kProject, "ltsd", {});
+    }
+    const auto frame = [&](bool raster) {
+        setenv("TYNDALL_RASTER_PRIMARY", raster ? "1" : "0", 1);
+        const RenderResult r = runJob(job);
+        if (r.image.metadata.at("primaryVisibility") != (raster ? "raster" : "traced: TYNDALL_RASTER_PRIMARY=0"))
+            state.SkipWithError(("primaryVisibility: " + r.image.metadata.at("primaryVisibility")).c_str());
+        return std::stod(r.image.metadata.at("gpu:totalMs"));
+    };
+    frame(true);  // compiles the pipelines
+    frame(false);
+    double raster = 0.0, traced = 0.0;
+    int frames = 0;
+    for (auto _ : state) {
+        const double t = frame(false), r = frame(true);
+        traced += t;
+        raster += r;
+        ++frames;
+        state.SetIterationTime(r * 1e-3);
+    }
+    unsetenv("TYNDALL_RASTER_PRIMARY");
+    state.counters["rasterMs"] = raster / frames;
+    state.counters["tracedMs"] = traced / frames;
+}
+BENCHMARK(BM_LtsdGpuPrimaryVisibility)->Arg(0)->Arg(1)->UseManualTime()->Iterations(5)->Unit(benchmark::kMillisecond);
 
 void BM_LtsdCpu(benchmark::State& state) {
     RenderJob job = frameJob(int(state.range(0)), int(state.range(1)), "cpu");

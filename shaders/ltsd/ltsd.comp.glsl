@@ -3,14 +3,17 @@
 // renderers/ltsd/ compiles variants at run time by inserting defines after the #version line (see the top of
 // ltsd_scene.h): the light and plane counts, the placement and transmittance modes, and TY_LTSD_NO_MEDIUM,
 // TY_LTSD_NO_SURFACES, TY_LTSD_ONE_SIDED, TY_LTSD_NO_GGX, TY_LTSD_NO_ANISOTROPIC for what the scene lacks, so that
-// lavapipe does not run code no lane takes; TY_BVH_WORDS where the device has shaderFloat64. With TY_LTSD_RATIO the kernel is the ratio
-// estimators' pass instead: each invocation sums push.samples camera samples of its pixel. The build compiles this
-// file as it is (every mode, the analytic pass) so that CI validates it with spirv-val.
+// lavapipe does not run code no lane takes; TY_BVH_WORDS where the device has shaderFloat64; TY_PRIMARY_HITS when the
+// analytic pass reads its camera hits from the rasterised records (binding 9) instead of tracing them. With
+// TY_LTSD_RATIO the kernel is the ratio estimators' pass instead: each invocation sums push.samples camera samples of
+// its pixel. The build compiles this file as it is (every mode, the analytic pass) so that CI validates it with spirv-val.
 #extension GL_GOOGLE_include_directive : require
 
 #define TY_BVH_NODES_BINDING 0
 #define TY_BVH_TRIANGLES_BINDING 1
 #include "../include/bvh_buffers.glsl"
+#define TY_PRIMARY_HITS_BINDING 9
+#include "../include/primary_hits.glsl"
 #include "../shared/ltsd_scene.h"
 
 layout(local_size_x = 64) in;

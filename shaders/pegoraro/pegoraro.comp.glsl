@@ -9,6 +9,7 @@
 //                             the shader ~40 % faster when that code is absent, even though it would not execute
 //   TY_PEGORARO_NO_SURFACES   the scene has no triangles: no camera hits, lit intervals or surface shading
 //   TY_PEGORARO_GREY          the extinction is the same in every channel: one closed form per evaluation, not three
+//   TY_PRIMARY_HITS           the camera hits of the grid samples come from the rasterised records (binding 11)
 //   TY_PEGORARO_DEFERRED_FALLBACK  the first pass: no quadrature code; an evaluation that needs it is counted in w, and
 //                             the host renders those samples again with the full shader over a list (push.listed)
 // The pixels around a light's projection are rendered by the full shader once more, node by node over a list
@@ -19,6 +20,8 @@
 #define TY_BVH_NODES_BINDING 0
 #define TY_BVH_TRIANGLES_BINDING 1
 #include "../include/bvh_buffers.glsl"
+#define TY_PRIMARY_HITS_BINDING 11
+#include "../include/primary_hits.glsl"
 #include "../shared/pegoraro_scene.h"
 
 layout(local_size_x = 64) in;

@@ -14,6 +14,7 @@
 //   TY_LTSD_NO_MEDIUM        surfaces in vacuum      TY_LTSD_NO_SURFACES  no triangles
 //   TY_LTSD_ONE_SIDED        no light is two-sided   TY_LTSD_PLACEMENT k  TY_LTSD_TRANSMITTANCE k
 //   TY_LTSD_NO_GGX           no GGX material         TY_LTSD_NO_ANISOTROPIC  no anisotropic GGX material
+//   TY_PRIMARY_HITS          the analytic pass's camera hits come rasterised (primary_hits.h)
 #ifndef TY_SHARED_LTSD_SCENE_H
 #define TY_SHARED_LTSD_SCENE_H
 
@@ -24,6 +25,7 @@
 #include "ltc.h"
 #include "ltsd.h"
 #include "phase.h"
+#include "primary_hits.h"
 #include "rng.h"
 #include "sampling.h"
 #include "surface.h"
@@ -450,8 +452,10 @@ TY_FUNC vec3 ltsdSurfaceBrdf(TY_IN(MaterialParams) material, TY_IN(vec3) wo, TY_
 
 // The radiance along the camera ray through the image point (x, y) in pixel coordinates, Eq. 15 in its two terms: the
 // quadrature of the air-light (`air`, A-bar) and the attenuated analytic surface radiance (Eq. 12) of the surface
-// behind (`surface`, T(y, x) L_c-bar).
-TY_FUNC void ltsdRayTerms(TY_IN(LtsdFrame) f, float x, float y, TY_OUT(vec3) air, TY_OUT(vec3) surface) {
+// behind (`surface`, T(y, x) L_c-bar). `sampleIndex`: the ray's record in the rasterised primary hits (primary_hits.h),
+// or -1 to trace it.
+TY_FUNC void ltsdRayTerms(TY_IN(LtsdFrame) f, float x, float y, int sampleIndex, TY_OUT(vec3) air,
+                          TY_OUT(vec3) surface) {
     vec3 origin, dir;
     cameraRay(f.camera, x, y, origin, dir);
     air = vec3(0.0f);
@@ -460,7 +464,7 @@ TY_FUNC void ltsdRayTerms(TY_IN(LtsdFrame) f, float x, float y, TY_OUT(vec3) air
     float tEnd = kInfinity;
 #else
     BvhHit hit;
-    bool hasHit = bvhIntersect(origin, dir, 0.0f, kInfinity, hit);
+    bool hasHit = primaryIntersect(sampleIndex, origin, dir, hit);
     float tEnd = hasHit ? hit.t : kInfinity;
 #endif
 #ifndef TY_LTSD_NO_MEDIUM
@@ -497,7 +501,7 @@ TY_FUNC void ltsdRayTerms(TY_IN(LtsdFrame) f, float x, float y, TY_OUT(vec3) air
 
 TY_FUNC vec3 ltsdRay(TY_IN(LtsdFrame) f, float x, float y) {
     vec3 air, surface;
-    ltsdRayTerms(f, x, y, air, surface);
+    ltsdRayTerms(f, x, y, -1, air, surface);
     return air + surface;
 }
 
@@ -509,8 +513,9 @@ TY_FUNC void ltsdPixelTerms(TY_IN(LtsdFrame) f, int px, int py, TY_OUT(vec3) air
     surface = vec3(0.0f);
     for (int k = 0; k < S * S; ++k) {
         int sy = k / S, sx = k - sy * S;
+        vec2 point = primarySamplePoint(S, px, py, sx, sy);
         vec3 a, c;
-        ltsdRayTerms(f, float(px) + (float(sx) + 0.5f) / float(S), float(py) + (float(sy) + 0.5f) / float(S), a, c);
+        ltsdRayTerms(f, point.x, point.y, primarySampleIndex(int(f.camera.width), S, px, py, sx, sy), a, c);
         air += a;
         surface += c;
     }

@@ -117,8 +117,8 @@ TY_FUNC vec3 TY_RS(pegoraroMediumRadiance)(TY_IN(PegoraroFrame) f, TY_IN(Pegorar
 // The radiance along the ray through the image point (x, y) in pixel coordinates: the medium radiance of every light
 // plus the reduced radiance of the surface behind (Eq. 1, 2, 8). Returns the radiance in xyz and the number of
 // closed-form evaluations that fell back to quadrature in w; `overflows` counts lights whose shadow boundaries did not
-// fit.
-TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, TY_INOUT(int) overflows) {
+// fit. `sampleIndex`: the ray's record in the rasterised primary hits (primary_hits.h), or -1 to trace it.
+TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, int sampleIndex, TY_INOUT(int) overflows) {
     vec3 sum = vec3(0.0f);
     int fallbacks = 0;
     vec3 origin, dir;
@@ -127,7 +127,7 @@ TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, TY_INO
     float tEnd = kInfinity;
 #else
     BvhHit hit;
-    bool hasHit = bvhIntersect(origin, dir, 0.0f, kInfinity, hit);
+    bool hasHit = primaryIntersect(sampleIndex, origin, dir, hit);
     float tEnd = hasHit ? hit.t : kInfinity;
     // Without a hit these stay unused; they are filled so that every path initialises them.
     SurfaceTriangle st = surfaceTriangle(hasHit ? int(hit.id) : 0);
@@ -164,7 +164,8 @@ TY_FUNC vec4 TY_RS(pegoraroRay)(TY_IN(PegoraroFrame) f, float x, float y, TY_INO
 TY_FUNC vec4 TY_RS(pegoraroSample)(TY_IN(PegoraroFrame) f, int px, int py, int k, TY_INOUT(int) overflows) {
     int S = max(f.supersampling, 1);
     int sy = k / S, sx = k - sy * S;
-    return TY_RS(pegoraroRay)(f, float(px) + (float(sx) + 0.5f) / float(S), float(py) + (float(sy) + 0.5f) / float(S),
+    vec2 point = primarySamplePoint(S, px, py, sx, sy);
+    return TY_RS(pegoraroRay)(f, point.x, point.y, primarySampleIndex(int(f.camera.width), S, px, py, sx, sy),
                               overflows);
 }
 
@@ -174,7 +175,7 @@ TY_FUNC vec4 TY_RS(pegoraroSingularSample)(TY_IN(PegoraroFrame) f, int px, int p
                                            TY_INOUT(int) overflows) {
     vec3 x = pegoraroSingularNode(px, py, p, node);
     if (x.z == 0.0f) return vec4(0.0f);
-    vec4 r = TY_RS(pegoraroRay)(f, x.x, x.y, overflows);
+    vec4 r = TY_RS(pegoraroRay)(f, x.x, x.y, -1, overflows);
     return vec4(x.z * vec3(r), r.w);
 }
 

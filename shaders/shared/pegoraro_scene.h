@@ -17,6 +17,7 @@
 #include "constants.h"
 #include "lit_intervals.h"
 #include "pegoraro.h"
+#include "primary_hits.h"
 #include "singular_pixel.h"
 #include "surface.h"
 

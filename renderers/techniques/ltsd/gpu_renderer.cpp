@@ -29,20 +29,20 @@ std::string shaderPath() {
 
 }  // namespace
 
-GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
+GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()), primaryHits_(*context_) {}
 
-gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, double& compileSeconds) {
+gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, bool raster, double& compileSeconds) {
     const shader::LtsdFrame& f = scene.frame;
     const bool words = context_->device().shaderFloat64;
     const bool medium = f.hasMedium != 0;
     const bool surfaces = scene.surfaces.triangleCount > 0;
     const bool ggx = surfaces && scene.anyGgx;
     const bool anisotropic = ggx && scene.anyAnisotropic;
-    const std::string key = std::to_string(f.lightCount) + "l-" + std::to_string(f.planeCount) + "p-" +
-                            std::to_string(f.placement) + "-" + std::to_string(f.transmittance) +
-                            (medium ? "" : "-nomedium") + (surfaces ? "" : "-nosurfaces") +
-                            (scene.anyTwoSided ? "-twosided" : "") + (ggx ? "-ggx" : "") +
-                            (anisotropic ? "-aniso" : "") + (words ? "-w" : "") + (ratio ? "-ratio" : "");
+    const std::string key =
+        std::to_string(f.lightCount) + "l-" + std::to_string(f.planeCount) + "p-" + std::to_string(f.placement) + "-" +
+        std::to_string(f.transmittance) + (medium ? "" : "-nomedium") + (surfaces ? "" : "-nosurfaces") +
+        (scene.anyTwoSided ? "-twosided" : "") + (ggx ? "-ggx" : "") + (anisotropic ? "-aniso" : "") +
+        (words ? "-w" : "") + (ratio ? "-ratio" : "") + (raster ? "-raster" : "");
     std::string defines = "#define TY_LTSD_LIGHTS " + std::to_string(f.lightCount) + "\n#define TY_LTSD_PLANES " +
                           std::to_string(f.planeCount) + "\n#define TY_LTSD_PLACEMENT " +
                           std::to_string(f.placement) + "\n#define TY_LTSD_TRANSMITTANCE " +
@@ -54,7 +54,8 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, 
     if (!anisotropic) defines += "#define TY_LTSD_NO_ANISOTROPIC\n";
     if (words) defines += "#define TY_BVH_WORDS\n";
     if (ratio) defines += "#define TY_LTSD_RATIO\n";
-    return kernels_.get(*context_, {shaderPath(), defines, 9, std::uint32_t(sizeof(Push)), "ltsd_" + key},
+    if (raster) defines += "#define TY_PRIMARY_HITS\n";
+    return kernels_.get(*context_, {shaderPath(), defines, 10, std::uint32_t(sizeof(Push)), "ltsd_" + key},
                         compileSeconds);
 }
 
@@ -70,11 +71,21 @@ GpuOutput GpuRenderer::renderRatio(const PreparedScene& scene, int width, int he
 GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, int height, int samples,
                            std::uint32_t seed, const RenderCallbacks& callbacks) {
     GpuOutput out;
-    gpu::ComputeKernel& k = kernel(scene, ratio, out.compileSeconds);
     gpu::Context& ctx = *context_;
     auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
     auto nodes = upload(scene.surfaces.bvh.nodes);
     auto triangles = upload(scene.surfaces.bvh.triangles);
+    // The analytic pass's rays sit on the S x S grid of each pixel: their closest hits can be rasterised. The ratio
+    // pass's rays are jittered: traced.
+    PrimaryHits primary;
+    if (!ratio && scene.surfaces.triangleCount > 0) {
+        primary = primaryHits_.render(*nodes, *triangles, scene.surfaces.bvh.triangles.size(), scene.frame.camera,
+                                      std::max(scene.frame.supersampling, 1));
+        out.primaryVisibility = primary.visibility;
+        out.compileSeconds += primary.compileSeconds;
+    }
+    const bool raster = primary.records != nullptr;
+    gpu::ComputeKernel& k = kernel(scene, ratio, raster, out.compileSeconds);
     auto frame = std::make_unique<gpu::Buffer>(ctx, sizeof(shader::LtsdFrame));
     frame->upload(&scene.frame, sizeof(shader::LtsdFrame));
     auto lights = upload(scene.lights);
@@ -85,9 +96,11 @@ GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, in
     const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
     const std::uint64_t perPixel = ratio ? 4 : 2;
     gpu::Buffer radiance(ctx, pixels * perPixel * sizeof(glm::vec4));
-    const std::vector<const gpu::Buffer*> bindings{nodes.get(),  triangles.get(),        frame.get(),
-                                                   lights.get(), planes.get(),           surfaceTriangles.get(),
-                                                   materials.get(), &radiance,           ltcEntries.get()};
+    const std::vector<const gpu::Buffer*> bindings{nodes.get(),      triangles.get(),
+                                                   frame.get(),      lights.get(),
+                                                   planes.get(),     surfaceTriangles.get(),
+                                                   materials.get(),  &radiance,
+                                                   ltcEntries.get(), raster ? primary.records.get() : nodes.get()};
     gpu::SliceStats stats;
     try {
         stats = gpu::runSliced(
@@ -108,7 +121,7 @@ GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, in
     out.values = radiance.download<glm::vec4>(pixels * perPixel);
     out.deviceName = ctx.device().name;
     out.longestSliceMs = stats.longestMs;
-    out.gpuMs = stats.totalMs;
+    out.gpuMs = stats.totalMs + primary.gpuMs;
     return out;
 }
 

@@ -5,6 +5,7 @@
 #include "ltsd/prepared.h"
 
 #include "tyndall/framework/kernel_cache.h"
+#include "tyndall/framework/primary_hits.h"
 #include "tyndall/framework/technique.h"
 #include "tyndall/gpu/context.h"
 #include "tyndall/gpu/resources.h"
@@ -22,6 +23,8 @@ struct GpuOutput {
     double longestSliceMs = 0.0;
     double gpuMs = 0.0;
     double compileSeconds = 0.0;  // building the pipeline (0 when it was cached)
+    // The analytic pass's camera hits: "raster", "traced: <why>" (framework/primary_hits.h); empty for the ratio pass.
+    std::string primaryVisibility;
 };
 
 class GpuRenderer {
@@ -35,12 +38,13 @@ public:
                           const RenderCallbacks& callbacks);
 
 private:
-    gpu::ComputeKernel& kernel(const PreparedScene& scene, bool ratio, double& compileSeconds);
+    gpu::ComputeKernel& kernel(const PreparedScene& scene, bool ratio, bool raster, double& compileSeconds);
     GpuOutput run(const PreparedScene& scene, bool ratio, int width, int height, int samples, std::uint32_t seed,
                   const RenderCallbacks& callbacks);
 
     std::shared_ptr<gpu::Context> context_;
     KernelCache kernels_;  // by variant
+    RasterPrimaryHits primaryHits_;
 };
 
 }  // namespace tyndall::ltsd

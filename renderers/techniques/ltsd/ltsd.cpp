@@ -191,6 +191,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
     std::vector<glm::vec4> terms, sums;
     std::string deviceName = "cpu";
     double longestSliceMs = 0.0, gpuMs = 0.0, compileSeconds = 0.0;
+    std::string primaryVisibility;
     if (onGpu) {
         if (!gpu_) gpu_ = std::make_unique<ltsd::GpuRenderer>();
         ltsd::GpuOutput g = gpu_->render(scene, width, height, callbacks);
@@ -199,6 +200,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
         longestSliceMs = g.longestSliceMs;
         gpuMs = g.gpuMs;
         compileSeconds = g.compileSeconds;
+        primaryVisibility = g.primaryVisibility;
         if (shadows) {
             ltsd::GpuOutput r = gpu_->renderRatio(scene, width, height, ratioSamples, seed, callbacks);
             sums = std::move(r.values);
@@ -271,6 +273,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
         meta["gpu:longestSliceMs"] = formatShort(longestSliceMs);
         meta["gpu:totalMs"] = formatShort(gpuMs);
         meta["gpu:compileSeconds"] = formatShort(compileSeconds);
+        if (!primaryVisibility.empty()) meta["primaryVisibility"] = primaryVisibility;
     }
     return result;
 }

@@ -34,14 +34,15 @@ int roundTerms(int terms) {
 
 }  // namespace
 
-GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()) {}
+GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()), primaryHits_(*context_) {}
 
 gpu::ComputeKernel& GpuRenderer::kernel(const Variant& v, double& compileSeconds) {
     const int terms = roundTerms(v.maxTerms);
     const bool words = context_->device().shaderFloat64;
     const std::string key = std::to_string(terms) + (v.useDouble ? "d" : "f") + (words ? "w" : "s") +
                             (v.shadows ? "" : "-noshadows") + (v.surfaces ? "" : "-nosurfaces") +
-                            (v.grey ? "-grey" : "") + (v.deferredFallback ? "-deferred" : "");
+                            (v.grey ? "-grey" : "") + (v.deferredFallback ? "-deferred" : "") +
+                            (v.raster ? "-raster" : "");
 
     std::string defines = "#define TY_PEGORARO_MAX_TERMS " + std::to_string(terms) + "\n";
     if (v.useDouble) defines += "#define TY_ENABLE_DOUBLE\n";
@@ -50,7 +51,8 @@ gpu::ComputeKernel& GpuRenderer::kernel(const Variant& v, double& compileSeconds
     if (!v.surfaces) defines += "#define TY_PEGORARO_NO_SURFACES\n";
     if (v.grey) defines += "#define TY_PEGORARO_GREY\n";
     if (v.deferredFallback) defines += "#define TY_PEGORARO_DEFERRED_FALLBACK\n";
-    return kernels_.get(*context_, {shaderPath(), defines, 11, std::uint32_t(sizeof(Push)), "pegoraro_" + key},
+    if (v.raster) defines += "#define TY_PRIMARY_HITS\n";
+    return kernels_.get(*context_, {shaderPath(), defines, 12, std::uint32_t(sizeof(Push)), "pegoraro_" + key},
                         compileSeconds);
 }
 
@@ -71,8 +73,20 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     variant.grey = shader::pegoraroGrey(scene.frame);  // the shared test (no TY_PEGORARO_GREY here: the frame's values)
     variant.deferredFallback = scene.frame.fallbackMode != shader::kPegoraroFallbackAlways;
     double compileSeconds = 0.0;
-    gpu::ComputeKernel& first = kernel(variant, compileSeconds);
     gpu::Context& ctx = *context_;
+    auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
+    auto nodes = upload(scene.bvh.nodes);
+    auto triangles = upload(scene.bvh.triangles);
+    // Every sample but those around a light's projection sits on the S x S grid of its pixel: its camera hit can be
+    // rasterised.
+    PrimaryHits primary;
+    if (variant.surfaces) {
+        primary = primaryHits_.render(*nodes, *triangles, scene.bvh.triangles.size(), scene.frame.camera,
+                                      std::max(scene.frame.supersampling, 1));
+        compileSeconds += primary.compileSeconds;
+    }
+    variant.raster = primary.records != nullptr;
+    gpu::ComputeKernel& first = kernel(variant, compileSeconds);
     // The variant with the quadrature's code, for the listed passes (compiled on first use, its time counted).
     auto fullKernel = [&]() -> gpu::ComputeKernel& {
         Variant full = variant;
@@ -80,9 +94,6 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         return kernel(full, compileSeconds);
     };
 
-    auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
-    auto nodes = upload(scene.bvh.nodes);
-    auto triangles = upload(scene.bvh.triangles);
     auto frame = std::make_unique<gpu::Buffer>(ctx, sizeof(shader::PegoraroFrame));
     frame->upload(&scene.frame, sizeof(shader::PegoraroFrame));
     auto lights = upload(scene.lights);
@@ -100,10 +111,18 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     gpu::Buffer overflows(ctx, samples * sizeof(std::uint32_t));
     std::unique_ptr<gpu::Buffer> list = upload(std::vector<std::uint32_t>{0u});
     auto bindings = [&](gpu::Buffer& out, gpu::Buffer& outOverflows) {
-        return std::vector<const gpu::Buffer*>{
-            nodes.get(),        triangles.get(),        frame.get(),     lights.get(), media.get(),
-            coefficients.get(), surfaceTriangles.get(), materials.get(), &out,         &outOverflows,
-            list.get()};
+        return std::vector<const gpu::Buffer*>{nodes.get(),
+                                               triangles.get(),
+                                               frame.get(),
+                                               lights.get(),
+                                               media.get(),
+                                               coefficients.get(),
+                                               surfaceTriangles.get(),
+                                               materials.get(),
+                                               &out,
+                                               &outOverflows,
+                                               list.get(),
+                                               primary.records ? primary.records.get() : nodes.get()};
     };
 
     // `count` items of a pass; progress runs over [progressFrom, progressTo). The listed pass starts with a smaller
@@ -200,8 +219,9 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     }
     out.deviceName = ctx.device().name;
     out.longestSliceMs = longestMs;
-    out.gpuMs = totalMs;
+    out.gpuMs = totalMs + primary.gpuMs;
     out.compileSeconds = compileSeconds;
+    out.primaryVisibility = primary.visibility;
     return out;
 }
 

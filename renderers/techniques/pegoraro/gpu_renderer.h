@@ -5,6 +5,7 @@
 #include "pegoraro/prepared.h"
 
 #include "tyndall/framework/kernel_cache.h"
+#include "tyndall/framework/primary_hits.h"
 #include "tyndall/framework/technique.h"
 #include "tyndall/gpu/context.h"
 #include "tyndall/gpu/resources.h"
@@ -23,6 +24,8 @@ struct GpuOutput {
     double longestSliceMs = 0.0;
     double gpuMs = 0.0;           // GPU time of all slices
     double compileSeconds = 0.0;  // building the pipeline (0 when it was cached)
+    // The camera hits: "raster" or "traced: <why>" (framework/primary_hits.h); empty without surfaces.
+    std::string primaryVisibility;
 };
 
 class GpuRenderer {
@@ -44,11 +47,13 @@ private:
         bool surfaces = true;
         bool grey = false;
         bool deferredFallback = false;
+        bool raster = false;  // camera hits from the rasterised records (TY_PRIMARY_HITS)
     };
     gpu::ComputeKernel& kernel(const Variant& variant, double& compileSeconds);
 
     std::shared_ptr<gpu::Context> context_;
     KernelCache kernels_;  // by variant
+    RasterPrimaryHits primaryHits_;
 };
 
 }  // namespace tyndall::pegoraro

@@ -168,6 +168,7 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
     std::vector<std::uint32_t> overflows;
     std::string deviceName = "cpu";
     double longestSliceMs = 0.0, gpuMs = 0.0, compileSeconds = 0.0;
+    std::string primaryVisibility;
     bool useDouble = settings.precision == Precision::Double;
     const bool onGpu = runsOnGpu(settings.device, AutoDevice::HardwareGpu);
     if (onGpu) {
@@ -182,6 +183,7 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
         longestSliceMs = g.longestSliceMs;
         gpuMs = g.gpuMs;
         compileSeconds = g.compileSeconds;
+        primaryVisibility = g.primaryVisibility;
     } else {
         if (settings.precision == Precision::Auto) useDouble = true;
         pegoraro::checkClosedFormRange(scene, settings, useDouble);
@@ -227,6 +229,7 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
         meta["gpu:longestSliceMs"] = formatShort(longestSliceMs);
         meta["gpu:totalMs"] = formatShort(gpuMs);
         meta["gpu:compileSeconds"] = formatShort(compileSeconds);
+        if (!primaryVisibility.empty()) meta["primaryVisibility"] = primaryVisibility;
     }
     for (std::size_t m = 0; m < scene.phases.size(); ++m) {
         const pegoraro::PhasePolynomial& p = scene.phases[m];

@@ -550,6 +550,9 @@ TEST_F(LtsdGpu, MatchesTheCpuPath) {
         const RenderResult g = renderView(gpuRoom, view);
         const RenderResult c = renderView(cpuRoom, view);
         ASSERT_NE(g.image.metadata.at("device"), "cpu");
+        // The camera hits come from the raster pass (framework/primary_hits.h), the CPU's from the BVH.
+        EXPECT_EQ(g.image.metadata.at("primaryVisibility"), "raster") << view;
+        EXPECT_EQ(c.image.metadata.count("primaryVisibility"), 0u) << view;
         const Metrics m = computeMetrics(g.image, c.image);
         EXPECT_LT(m.relMSE, 1e-8) << view;
         EXPECT_LT(std::abs(m.energyBias), 1e-2) << view;  // % (the polygon rule's acos, sin, cos differ most)

@@ -143,6 +143,8 @@ TEST_F(PegoraroGpu, GpuPathMatchesCpuPath) {
                     if (std::abs(a.at(x, y, c) - b.at(x, y, c)) > 1e-4 * std::abs(b.at(x, y, c)) + 1e-7) ++far;
         EXPECT_LE(far, int(0.005 * 3 * a.width() * a.height()));
         EXPECT_NE(a.metadata.at("device"), "cpu");
+        // The street's camera hits come from the raster pass (framework/primary_hits.h), the CPU's from the BVH.
+        EXPECT_EQ(a.metadata.at("primaryVisibility"), "raster");
     }
 }
 
@@ -454,7 +456,7 @@ double accuratePixelAverage(const shader::PegoraroFrame& f, int px, int py, glm:
                 const double r = rIn + (rOut - rIn) * b.x;
                 int overflows = 0;
                 const glm::vec4 radiance =
-                    sh::pegoraroRay_double(f, float(p.x + r * dir.x), float(p.y + r * dir.y), overflows);
+                    sh::pegoraroRay_double(f, float(p.x + r * dir.x), float(p.y + r * dir.y), -1, overflows);
                 inner += b.y * double(radiance[channel]) * r;
             }
             sum += a.y * (cuts[c + 1] - cuts[c]) * inner * (rOut - rIn);
@@ -501,7 +503,7 @@ TEST(PegoraroTechnique, PixelsAroundALightMatchAnAccuratePixelAverage) {
                     for (int k = 0; k < 256; ++k) {
                         int overflows = 0;
                         grid += sh::pegoraroRay_double(scene.frame, px + (k % 16 + 0.5f) / 16.0f,
-                                                       py + (k / 16 + 0.5f) / 16.0f, overflows)[channel] /
+                                                       py + (k / 16 + 0.5f) / 16.0f, -1, overflows)[channel] /
                                 256.0;
                     }
                     worstGrid = std::max(worstGrid, std::abs(grid / expected - 1.0));
