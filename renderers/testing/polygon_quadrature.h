@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace tyndall::test {
@@ -100,6 +101,45 @@ inline std::vector<TestPolygon> randomTestPolygons(unsigned seed, int perKind) {
                                          0.1 + 0.6 * u(rng), count, rng, "pole+z"));
         polygons.push_back(polygonAround(unitFromAngles(-0.98 - 0.02 * u(rng), 6.283185307179586 * u(rng)),
                                          0.1 + 0.6 * u(rng), count, rng, "pole-z"));
+    }
+    return polygons;
+}
+
+// The polygons of S's accuracy targets (issue 32): solid angles log-uniform over [0.01, 2] sr, centred anywhere, on
+// either pole, across the horizon, or beside a pole so that an edge passes within a fraction of the polygon's radius of
+// it (the peak of HG at -z for g > 0, +z for g < 0). Each polygon's solid angle is measured and kept within the range.
+inline std::vector<TestPolygon> sAccuracyPolygons(unsigned seed, int perKind) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const double twoPi = 6.283185307179586;
+    const char* kinds[] = {"random", "pole+z", "pole-z", "horizon", "beside+z", "beside-z"};
+    std::vector<TestPolygon> polygons;
+    for (const char* kind : kinds) {
+        const std::string k = kind;
+        for (int made = 0; made < perKind;) {
+            const double omega = 0.01 * std::exp(std::log(200.0) * u(rng));
+            const double radius = 1.25 * std::acos(1.0 - omega / twoPi);
+            const int count = 3 + int(u(rng) * 6.0);
+            const double sign = k.back() == 'z' ? (k[k.size() - 2] == '+' ? 1.0 : -1.0) : 1.0;
+            glm::dvec3 centre;
+            if (k == "random")
+                centre = unitFromAngles(2.0 * u(rng) - 1.0, twoPi * u(rng));
+            else if (k == "horizon")
+                centre = unitFromAngles(0.1 * (2.0 * u(rng) - 1.0), twoPi * u(rng));
+            else if (k.rfind("pole", 0) == 0)
+                centre = unitFromAngles(sign * std::cos(0.5 * radius * u(rng)), twoPi * u(rng));
+            else
+                centre = unitFromAngles(sign * std::cos(std::min(1.5, radius * (0.8 + 0.4 * u(rng)))), twoPi * u(rng));
+            TestPolygon p = polygonAround(centre, radius, count, rng, kind);
+            shader::SphericalPolygon s{};
+            s.count = int(p.vertices.size());
+            for (size_t i = 0; i < p.vertices.size(); ++i)
+                s.v[i] = glm::vec3(p.vertices[i]);
+            const double measured = double(shader::ltsdSolidAngle(s));
+            if (measured < 0.01 || measured > 2.0) continue;
+            polygons.push_back(p);
+            ++made;
+        }
     }
     return polygons;
 }
