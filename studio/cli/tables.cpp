@@ -268,6 +268,8 @@ int tablesEval(const TablesEvalArgs& args) {
             {"exactPart", {{"isotropic", terms.isotropic}, {"linear", terms.linear}}},
             {"ltsd", ltsd},
             {"exact", exact},
+            // Every S method (the LTSD technique's sMethod): the paper's Eq. 21 and the boundary form.
+            {"sMethods", {{"paper", ltsd}, {"accurate", ltsdAccuratePhaseIntegral(phase, polygon)}}},
             {"absoluteError", ltsd - exact},
             {"relativeError", exact > 0.0 ? (ltsd - exact) / exact : 0.0},
             {"solidAngle", double(shader::ltsdSolidAngle(polygon))},

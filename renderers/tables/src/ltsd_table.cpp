@@ -1,5 +1,7 @@
 #include "tyndall/tables/ltsd_table.h"
 
+#include "shared/ltsd_boundary.h"
+
 #include "table_file.h"
 #include "tyndall/core/text.h"
 
@@ -184,6 +186,23 @@ std::string ltsdPhaseRefusal(const std::string& type) {
 
 double ltsdPhaseIntegral(const LtsdPhaseTerms& t, const shader::SphericalPolygon& polygon) {
     return double(shader::ltsdPhaseIntegral(polygon, t.upper, t.lower, t.isotropic, t.linear));
+}
+
+double ltsdAccuratePhaseIntegral(const LtsdPhase& phase, const shader::SphericalPolygon& polygon) {
+    const std::string& type = phase.type;
+    if (type == "isotropic") return double(shader::ltsdLinearPhaseIntegral(polygon, 1.0f, 0.0f));
+    if (type == "eddington") return double(shader::ltsdLinearPhaseIntegral(polygon, 1.0f, float(phase.b)));
+    int lobe = shader::kLtsdLobeHg;
+    double weight = type == "mix" ? phase.a : 1.0;
+    if (type == "rayleigh" || isMie(type)) {
+        lobe = type == "rayleigh" ? shader::kLtsdLobeRayleigh
+                                  : (mieExponent(type) == 8 ? shader::kLtsdLobeMie8 : shader::kLtsdLobeMie32);
+        weight = ltsdLobeWeight(type);
+    } else if (type != "hg" && type != "mix") {
+        (void)ltsdTableFor(type);  // throws the InputError that names what has an LTSD form
+    }
+    return double(
+        shader::ltsdAccuratePhaseIntegral(polygon, lobe, float(phase.g), float(weight), float(1.0 - weight), 0.0f));
 }
 
 double hgUpperAmplitude(double g) {

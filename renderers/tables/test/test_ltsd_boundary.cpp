@@ -101,5 +101,22 @@ TEST(LtsdBoundaryS, TinyPolygonsInTheTailKeepTheirRelativeAccuracy) {
     }
 }
 
+// The CPU entry point (`tables eval`'s sMethods.accurate) for every type with an LTSD form, and the refusal of one
+// without.
+TEST(LtsdBoundaryS, TheLibrarysEntryPointCoversEveryPhaseType) {
+    const std::vector<LtsdPhase> phases = {{"hg", -0.6},      {"hg", 0.9},  {"isotropic"}, {"eddington", 0, 1, 0.7},
+                                           {"mix", 0.7, 0.4}, {"rayleigh"}, {"hazy-mie"},  {"murky-mie"}};
+    for (const LtsdPhase& phase : phases) {
+        for (const test::TestPolygon& p : test::sAccuracyPolygons(34u, 4)) {
+            const double exact = ltsdPhasePolygonIntegral(phase, p.vertices);
+            EXPECT_NEAR(ltsdAccuratePhaseIntegral(phase, test::toShaderPolygon(p)), exact, 1e-2 * exact + 1e-6)
+                << phase.type << " " << p.kind;
+        }
+    }
+    EXPECT_THROW(
+        ltsdAccuratePhaseIntegral(LtsdPhase{"legendre"}, test::toShaderPolygon(test::sAccuracyPolygons(1u, 1)[0])),
+        std::exception);
+}
+
 }  // namespace
 }  // namespace tyndall

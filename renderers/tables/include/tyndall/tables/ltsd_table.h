@@ -37,6 +37,10 @@ struct LtsdPhase {
 // hundred evaluations. `vertices`: a convex polygon inside a hemisphere, any order.
 double ltsdPhasePolygonIntegral(const LtsdPhase& phase, const std::vector<glm::dvec3>& vertices);
 
+// S by the boundary form (shaders/shared/ltsd_boundary.h, the LTSD technique's accurate S): the same integral in float
+// with 3 Gauss nodes per edge, no table (docs/tables.md, "S by the boundary form"). Every type but legendre.
+double ltsdAccuratePhaseIntegral(const LtsdPhase& phase, const shader::SphericalPolygon& polygon);
+
 // Henyey-Greenstein's integral over the upper hemisphere of the LTSD frame (omega_o = +z, mu = -z), i.e. over
 // mu in [-1, 0]: a_u(g) = (1 - g) / (sqrt(1 + g^2) (1 + g + sqrt(1 + g^2))), exact and stable for every g in [-1, 1].
 // a_l(g) = a_u(-g), and a_u + a_l = 1.
