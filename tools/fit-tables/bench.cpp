@@ -11,6 +11,8 @@
 
 #include "tyndall/tables/ltsd_table.h"
 
+#include "shared/ltsd_boundary.h"
+
 #include <benchmark/benchmark.h>
 
 namespace {
@@ -45,6 +47,16 @@ void BM_S_EntriesFetchedOnce(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_S_EntriesFetchedOnce)->Arg(0)->Arg(1)->Arg(2);
+
+// S by the boundary form (issue 32, sMethod = accurate): no table, 3 Gauss nodes per edge; the same quads and g.
+void BM_S_Accurate(benchmark::State& state) {
+    shader::SphericalPolygon p = quadFor(state);
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(p);
+        benchmark::DoNotOptimize(shader::ltsdLobeIntegral(p, shader::kLtsdLobeHg, 0.6f));
+    }
+}
+BENCHMARK(BM_S_Accurate)->Arg(0)->Arg(1)->Arg(2);
 
 void BM_S_WithFetch(benchmark::State& state) {
     shader::SphericalPolygon p = quadFor(state);
