@@ -1,6 +1,7 @@
 // S of Eq. 21 without a fit: the integral of a rotationally symmetric phase function over a spherical polygon by the
 // boundary form (Green's theorem in (phi, mu)), one short 1-D integral per edge with a fixed Gauss rule in a variable
-// that follows the phase function's peak. Shared by GLSL and C++; the LTSD technique's `sMethod = accurate`.
+// that follows the phase function's peak. Shared by GLSL and C++ (`tyndall tables eval`'s
+// sMethods.accurate; the LTSD technique's run time is the next user).
 // Derivation and measured accuracy: docs/tables.md, "S by the boundary form".
 //
 // Frame: as shared/ltsd.h (omega_o = +z, mu = -z). With e the lobe's peak direction (-z; +z for HG with g < 0),
@@ -17,12 +18,8 @@
 #include "compat.h"
 #include "constants.h"
 #include "ltsd.h"
-#include "phase.h"
 
 TY_BEGIN
-
-TY_CONST int kLtsdSMethodAccurate = 0;  // this file's boundary form
-TY_CONST int kLtsdSMethodPaper = 1;     // Eq. 21: the fitted LTSDs of the table
 
 // The lobes the boundary form integrates (the part of a phase function beyond isotropic + linear, docs/tables.md
 // "Other phase functions"), each normalised over the sphere.
@@ -33,15 +30,6 @@ TY_CONST int kLtsdLobeMie8 = 3;      // 9 ((1 + mu) / 2)^8 / (4 pi)
 TY_CONST int kLtsdLobeMie32 = 4;     // 33 ((1 + mu) / 2)^32 / (4 pi)
 
 TY_CONST int kLtsdBoundaryNodes = 3;
-
-// The lobe of a phase kind (kPhase*), kLtsdLobeNone for the kinds that are isotropic + linear only.
-TY_FUNC int ltsdLobeOf(int phaseKind) {
-    if (phaseKind == kPhaseHenyeyGreenstein || phaseKind == kPhaseIsoHgMix) return kLtsdLobeHg;
-    if (phaseKind == kPhaseRayleigh) return kLtsdLobeRayleigh;
-    if (phaseKind == kPhaseHazyMie) return kLtsdLobeMie8;
-    if (phaseKind == kPhaseMurkyMie) return kLtsdLobeMie32;
-    return kLtsdLobeNone;
-}
 
 // Gauss-Legendre on [-1, 1], 3 nodes: node k's x and weight. Three suffice (docs/tables.md: weighted error ~1e-5 at
 // |g| = 0.95 against the target 2e-3; two give 5e-4, four and six only what float leaves, 3e-6 and 5e-7).

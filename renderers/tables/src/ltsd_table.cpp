@@ -189,18 +189,17 @@ double ltsdPhaseIntegral(const LtsdPhaseTerms& t, const shader::SphericalPolygon
 }
 
 double ltsdAccuratePhaseIntegral(const LtsdPhase& phase, const shader::SphericalPolygon& polygon) {
-    const std::string& type = phase.type;
-    if (type == "isotropic") return double(shader::ltsdLinearPhaseIntegral(polygon, 1.0f, 0.0f));
-    if (type == "eddington") return double(shader::ltsdLinearPhaseIntegral(polygon, 1.0f, float(phase.b)));
-    int lobe = shader::kLtsdLobeHg;
-    double weight = type == "mix" ? phase.a : 1.0;
-    if (type == "rayleigh" || isMie(type)) {
-        lobe = type == "rayleigh" ? shader::kLtsdLobeRayleigh
-                                  : (mieExponent(type) == 8 ? shader::kLtsdLobeMie8 : shader::kLtsdLobeMie32);
-        weight = ltsdLobeWeight(type);
-    } else if (type != "hg" && type != "mix") {
-        (void)ltsdTableFor(type);  // throws the InputError that names what has an LTSD form
-    }
+    // The lobe is the one a table would fit (ltsdTableFor throws for a type without an LTSD form); isotropic and
+    // eddington have none and are exact.
+    const std::string lobeType = ltsdTableFor(phase.type);
+    if (lobeType.empty())
+        return double(
+            shader::ltsdLinearPhaseIntegral(polygon, 1.0f, phase.type == "eddington" ? float(phase.b) : 0.0f));
+    const int lobe = lobeType == "hg" ? shader::kLtsdLobeHg
+                     : lobeType == "rayleigh"
+                         ? shader::kLtsdLobeRayleigh
+                         : (mieExponent(lobeType) == 8 ? shader::kLtsdLobeMie8 : shader::kLtsdLobeMie32);
+    const double weight = phase.type == "mix" ? phase.a : ltsdLobeWeight(lobeType);
     return double(
         shader::ltsdAccuratePhaseIntegral(polygon, lobe, float(phase.g), float(weight), float(1.0 - weight), 0.0f));
 }

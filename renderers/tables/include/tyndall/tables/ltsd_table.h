@@ -37,7 +37,7 @@ struct LtsdPhase {
 // hundred evaluations. `vertices`: a convex polygon inside a hemisphere, any order.
 double ltsdPhasePolygonIntegral(const LtsdPhase& phase, const std::vector<glm::dvec3>& vertices);
 
-// S by the boundary form (shaders/shared/ltsd_boundary.h, the LTSD technique's accurate S): the same integral in float
+// S by the boundary form (shaders/shared/ltsd_boundary.h, tables eval's sMethods.accurate): the same integral in float
 // with 3 Gauss nodes per edge, no table (docs/tables.md, "S by the boundary form"). Every type but legendre.
 double ltsdAccuratePhaseIntegral(const LtsdPhase& phase, const shader::SphericalPolygon& polygon);
 
