@@ -3,7 +3,8 @@
 // the fitting time of one table entry with each loss, measured in the same run (this machine's speed drifts); and S per
 // sample on the Vulkan device (lavapipe here): BM_S_Gpu evaluates S over 2^20 quads in one compute dispatch (GPU time
 // from timestamps), against a dispatch that builds the same quads without S, and reports the difference per sample as
-// the counter ns_per_S. The entries are read from a buffer, as the LTSD technique's kernel reads its table.
+// the counter ns_per_S, for Eq. 21 (BM_S_Gpu/paper: the entries read from a buffer, as the LTSD technique's kernel
+// reads its table) and for the boundary form of shared/ltsd_boundary.h (BM_S_Gpu/accurate; BM_S_Accurate on the CPU).
 #include "fit.h"
 
 #include "tyndall/gpu/context.h"
@@ -121,19 +122,24 @@ constexpr const char* kSBody = R"(
     return vec4(ltsdS(p, e[0], e[1]), 0.0, 0.0, 0.0);
 )";
 
+// S by the boundary form on the same quads: HG at g = 0.6, the lobe a compile-time constant as in the LTSD kernel.
+constexpr const char* kAccurateSBody = R"(
+    return vec4(ltsdLobeIntegral(p, kLtsdLobeHg, 0.6 + inputs[0].x * 0.0), 0.0, 0.0, 0.0);
+)";
+
 // The same quads, summed so that building them is not optimised away.
 constexpr const char* kBaselineBody = R"(
     return vec4(p.v[0].x + p.v[1].y + p.v[2].z + p.v[3].x + inputs[0].x, 0.0, 0.0, 0.0);
 )";
 
-void BM_S_Gpu(benchmark::State& state) {
+void BM_S_Gpu(benchmark::State& state, const char* sBody) {
     constexpr size_t kSamples = size_t(1) << 20;
     const std::vector<glm::vec4> inputs = gpuInputs(state, kSamples);
-    const std::string prelude = "#include \"shared/ltsd.h\"\n";
+    const std::string prelude = "#include \"shared/ltsd_boundary.h\"\n";
     double withS = 0.0, baseline = 0.0;
     for (auto _ : state) {
         double ms = 0.0, base = 0.0;
-        gpu::evaluateOnGpu(gpuContext(), prelude, std::string(kQuadBody) + kSBody, inputs, &ms);
+        gpu::evaluateOnGpu(gpuContext(), prelude, std::string(kQuadBody) + sBody, inputs, &ms);
         gpu::evaluateOnGpu(gpuContext(), prelude, std::string(kQuadBody) + kBaselineBody, inputs, &base);
         if (ms < 0.0) {
             state.SkipWithError("the device has no timestamps");
@@ -147,7 +153,12 @@ void BM_S_Gpu(benchmark::State& state) {
     state.counters["ns_per_sample_with_S"] = withS * 1e6 / n;
     state.SetLabel(gpuContext().device().name);
 }
-BENCHMARK(BM_S_Gpu)->Arg(0)->Arg(1)->Arg(2)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
+// The three quads, GPU time, three dispatches each.
+void gpuRuns(benchmark::internal::Benchmark* b) {
+    b->Arg(0)->Arg(1)->Arg(2)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
+}
+BENCHMARK_CAPTURE(BM_S_Gpu, paper, kSBody)->Apply(gpuRuns);
+BENCHMARK_CAPTURE(BM_S_Gpu, accurate, kAccurateSBody)->Apply(gpuRuns);
 
 }  // namespace
 
