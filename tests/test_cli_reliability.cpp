@@ -412,9 +412,10 @@ TEST(Reliability, ACorruptedTableIsRefusedByEveryCommandThatReadsIt) {
     expectRefused(tyndall(hgEval + tables), "tables eval", phrases);
     const std::string env = "TYNDALL_TABLES_DIR='" + (dir / "phase").string() + "' ";
     expectRefused(tyndall("validate '" + ltsdProject + "'", env), "validate an LTSD project", phrases);
+    // The view with the paper's S, which reads the table (the accurate S reads none).
     const std::string out = (dir / "room.exr").string();
     const CliRun render =
-        tyndall("render '" + ltsdProject + "' --view ltsd --spp 1 --size 16x12 -o '" + out + "'", env);
+        tyndall("render '" + ltsdProject + "' --view 'ltsd paper' --spp 1 --size 16x12 -o '" + out + "'", env);
     expectRefused(render, "render an LTSD view", phrases);
     EXPECT_FALSE(fs::exists(out));
 

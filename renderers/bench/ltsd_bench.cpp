@@ -9,9 +9,11 @@
 //   runs on the CPU and is not in it).
 // - BM_LtsdGpuPrimaryVisibility/medium: N = 8, one light, the room with (1) and without (0) its fog, the camera hits
 //   rasterised (framework/primary_hits.h) and traced (TYNDALL_RASTER_PRIMARY=0), alternately frame by frame: the wall
-//   time of each render in the counters rasterMs and tracedMs (the raster pass, preparation and readback included). Target (issue 31) without the medium on
-//   lavapipe: <= 15 ms.
-// Every case but BM_LtsdGpuRatio1 is unshadowed (shadows = off).
+//   time of each render in the counters rasterMs and tracedMs (the raster pass, preparation and readback included).
+//   Target (issue 31) without the medium on lavapipe: <= 15 ms.
+// - BM_LtsdSMethod/device: N = 8, one light, the accurate S (the default) and the paper's alternately, on the GPU (0)
+//   and the CPU (1): wall time per render in the counters accurateMs and paperMs (issue 32).
+// Every case but BM_LtsdGpuRatio1 is unshadowed (shadows = off); every case but BM_LtsdSMethod uses the default S.
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
 #include "tyndall/techniques/render.h"
@@ -29,8 +31,10 @@ namespace {
 const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/ltsd-room.json";
 
 RenderJob frameJob(int nodes, int lights, const std::string& device, const std::string& transmittance = "min-distance",
-                   const std::string& shadows = "off") {
-    std::vector<std::string> overrides = {"camera.width=512", "camera.height=512",
+                   const std::string& shadows = "off", const std::string& sMethod = "accurate") {
+    std::vector<std::string> overrides = {"camera.width=512",
+                                          "camera.height=512",
+                                          "views[ltsd].parameters.sMethod=" + sMethod,
                                           "views[ltsd].parameters.device=" + device,
                                           "views[ltsd].parameters.shadows=" + shadows,
                                           "views[ltsd].parameters.ratioSamples=1",
@@ -123,6 +127,30 @@ void BM_LtsdGpuPrimaryVisibility(benchmark::State& state) {
     state.counters["tracedMs"] = traced / frames;
 }
 BENCHMARK(BM_LtsdGpuPrimaryVisibility)->Arg(0)->Arg(1)->UseManualTime()->Iterations(5)->Unit(benchmark::kMillisecond);
+
+// The cost of the accurate S against the paper's: N = 8, one light, the polygon-averaged transmittance, on the GPU
+// (range 0; lavapipe here) and the CPU path (1), the two methods alternately frame by frame; the wall time of each
+// render in the counters paperMs and accurateMs.
+void BM_LtsdSMethod(benchmark::State& state) {
+    const std::string device = state.range(0) == 0 ? "gpu" : "cpu";
+    RenderJob paper = frameJob(8, 1, device, "polygon", "off", "paper");
+    RenderJob accurate = frameJob(8, 1, device, "polygon", "off", "accurate");
+    const auto frame = [](RenderJob& job) { return 1e3 * std::stod(runJob(job).image.metadata.at("renderTime")); };
+    frame(paper);  // compiles the pipelines
+    frame(accurate);
+    double paperMs = 0.0, accurateMs = 0.0;
+    int frames = 0;
+    for (auto _ : state) {
+        const double p = frame(paper), a = frame(accurate);
+        paperMs += p;
+        accurateMs += a;
+        ++frames;
+        state.SetIterationTime(a * 1e-3);
+    }
+    state.counters["paperMs"] = paperMs / frames;
+    state.counters["accurateMs"] = accurateMs / frames;
+}
+BENCHMARK(BM_LtsdSMethod)->Arg(0)->Arg(1)->UseManualTime()->Iterations(4)->Unit(benchmark::kMillisecond);
 
 void BM_LtsdCpu(benchmark::State& state) {
     RenderJob job = frameJob(int(state.range(0)), int(state.range(1)), "cpu");

@@ -1,7 +1,7 @@
 // S of Eq. 21 without a fit: the integral of a rotationally symmetric phase function over a spherical polygon by the
 // boundary form (Green's theorem in (phi, mu)), one short 1-D integral per edge with a fixed Gauss rule in a variable
 // that follows the phase function's peak. Shared by GLSL and C++ (`tyndall tables eval`'s
-// sMethods.accurate; the LTSD technique's run time is the next user).
+// sMethods.accurate, and the LTSD technique with sMethod = accurate, its default).
 // Derivation and measured accuracy: docs/tables.md, "S by the boundary form".
 //
 // Frame: as shared/ltsd.h (omega_o = +z, mu = -z). With e the lobe's peak direction (-z; +z for HG with g < 0),

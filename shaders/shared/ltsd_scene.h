@@ -14,6 +14,7 @@
 //   TY_LTSD_NO_MEDIUM        surfaces in vacuum      TY_LTSD_NO_SURFACES  no triangles
 //   TY_LTSD_ONE_SIDED        no light is two-sided   TY_LTSD_PLACEMENT k  TY_LTSD_TRANSMITTANCE k
 //   TY_LTSD_NO_GGX           no GGX material         TY_LTSD_NO_ANISOTROPIC  no anisotropic GGX material
+//   TY_LTSD_S_METHOD k       kLtsdSMethod*           TY_LTSD_S_LOBE k     the boundary form's lobe (kLtsdLobe*)
 //   TY_PRIMARY_HITS          the analytic pass's camera hits come rasterised (primary_hits.h)
 #ifndef TY_SHARED_LTSD_SCENE_H
 #define TY_SHARED_LTSD_SCENE_H
@@ -24,6 +25,7 @@
 #include "constants.h"
 #include "ltc.h"
 #include "ltsd.h"
+#include "ltsd_boundary.h"
 #include "phase.h"
 #include "primary_hits.h"
 #include "rng.h"
@@ -46,6 +48,10 @@ TY_CONST int kLtsdTransmittanceMinDistance = 0;  // Eq. 10: e^(-sigma_t d), d th
 TY_CONST int kLtsdTransmittancePolygon = 1;      // the solid-angle mean of e^(-sigma_t r) by quadrature
 TY_CONST int kLtsdTransmittanceGrid = 3;         // its nodes: a 3 x 3 grid per fan triangle, uniform in solid angle
 
+// How S, the phase function's integral over a light's polygon, is computed (docs/ltsd.md, "S").
+TY_CONST int kLtsdSMethodPaper = 0;     // Eq. 21: the fitted LTSDs of the phase function's table
+TY_CONST int kLtsdSMethodAccurate = 1;  // the boundary form of shared/ltsd_boundary.h: no table, ~1e-5 relative
+
 // A polygonal area light, 176 bytes.
 struct LtsdLight {
     vec4 vertices[kLtsdLightMaxVertices];  // xyz in m; the first vertexCount are used
@@ -57,7 +63,7 @@ struct LtsdLight {
     float radius2;  // m^2, area / pi: the squared radius of the disc of the light's area
 };
 
-// Everything else a frame needs, 256 bytes.
+// Everything else a frame needs, 296 bytes.
 struct LtsdFrame {
     CameraParams camera;
     vec3 sigmaT;  // 1/m
@@ -89,8 +95,9 @@ struct LtsdFrame {
     int ltcAnisoRatioCount;
     float ltcAnisoAlphaMin;
     float ltcAnisoRatioMin;
-    float pad4;
-    float pad5;
+    int sMethod;        // kLtsdSMethod*
+    int sLobe;          // the accurate method's lobe (kLtsdLobe*, shared/ltsd_boundary.h); its asymmetry is g
+    float sLobeWeight;  // the lobe's weight; phaseIsotropic and phaseLinear are the rest
 };
 
 // Supplied by the includer (see the top of the file).
@@ -121,6 +128,22 @@ TY_FUNC int ltsdPlacement(TY_IN(LtsdFrame) f) {
     return TY_LTSD_PLACEMENT;
 #else
     return f.placement;
+#endif
+}
+
+TY_FUNC int ltsdSMethod(TY_IN(LtsdFrame) f) {
+#ifdef TY_LTSD_S_METHOD
+    return TY_LTSD_S_METHOD;
+#else
+    return f.sMethod;
+#endif
+}
+
+TY_FUNC int ltsdSLobe(TY_IN(LtsdFrame) f) {
+#ifdef TY_LTSD_S_LOBE
+    return TY_LTSD_S_LOBE;
+#else
+    return f.sLobe;
 #endif
 }
 
@@ -292,9 +315,12 @@ TY_FUNC float ltsdTruePhase(TY_IN(LtsdFrame) f, float mu) {
 TY_FUNC vec3 ltsdInScattered(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, TY_IN(vec3) z, TY_IN(vec3) tx,
                              TY_IN(vec3) ty, TY_IN(vec3) wo) {
     if (!ltsdFacing(light, z)) return vec3(0.0f);
-    // Eq. 21 for the fitted lobe, plus the phase function's exact isotropic and linear part
-    float s = ltsdPhaseIntegral(ltsdLocalPolygon(light, z, tx, ty, wo), f.upper, f.lower, f.phaseIsotropic,
-                                f.phaseLinear);
+    SphericalPolygon polygon = ltsdLocalPolygon(light, z, tx, ty, wo);
+    float s;
+    if (ltsdSMethod(f) == kLtsdSMethodAccurate)  // the boundary form of the lobe, plus the exact part
+        s = ltsdAccuratePhaseIntegral(polygon, ltsdSLobe(f), f.g, f.sLobeWeight, f.phaseIsotropic, f.phaseLinear);
+    else  // Eq. 21 for the fitted lobe, plus the phase function's exact isotropic and linear part
+        s = ltsdPhaseIntegral(polygon, f.upper, f.lower, f.phaseIsotropic, f.phaseLinear);
     return light.radiance * ltsdMeanTransmittance(f, light, z) * s;
 }
 

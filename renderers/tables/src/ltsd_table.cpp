@@ -188,20 +188,29 @@ double ltsdPhaseIntegral(const LtsdPhaseTerms& t, const shader::SphericalPolygon
     return double(shader::ltsdPhaseIntegral(polygon, t.upper, t.lower, t.isotropic, t.linear));
 }
 
-double ltsdAccuratePhaseIntegral(const LtsdPhase& phase, const shader::SphericalPolygon& polygon) {
+LtsdBoundaryTerms ltsdBoundaryTerms(const LtsdPhase& phase) {
     // The lobe is the one a table would fit (ltsdTableFor throws for a type without an LTSD form); isotropic and
     // eddington have none and are exact.
+    LtsdBoundaryTerms t;
     const std::string lobeType = ltsdTableFor(phase.type);
-    if (lobeType.empty())
-        return double(
-            shader::ltsdLinearPhaseIntegral(polygon, 1.0f, phase.type == "eddington" ? float(phase.b) : 0.0f));
-    const int lobe = lobeType == "hg" ? shader::kLtsdLobeHg
-                     : lobeType == "rayleigh"
-                         ? shader::kLtsdLobeRayleigh
-                         : (mieExponent(lobeType) == 8 ? shader::kLtsdLobeMie8 : shader::kLtsdLobeMie32);
+    if (lobeType.empty()) {
+        t.isotropic = 1.0f;
+        t.linear = phase.type == "eddington" ? float(phase.b) : 0.0f;
+        return t;
+    }
+    t.lobe = lobeType == "hg"         ? shader::kLtsdLobeHg
+             : lobeType == "rayleigh" ? shader::kLtsdLobeRayleigh
+                                      : (mieExponent(lobeType) == 8 ? shader::kLtsdLobeMie8 : shader::kLtsdLobeMie32);
+    t.g = lobeType == "hg" ? float(phase.g) : 0.0f;
     const double weight = phase.type == "mix" ? phase.a : ltsdLobeWeight(lobeType);
-    return double(
-        shader::ltsdAccuratePhaseIntegral(polygon, lobe, float(phase.g), float(weight), float(1.0 - weight), 0.0f));
+    t.lobeWeight = float(weight);
+    t.isotropic = float(1.0 - weight);
+    return t;
+}
+
+double ltsdAccuratePhaseIntegral(const LtsdPhase& phase, const shader::SphericalPolygon& polygon) {
+    const LtsdBoundaryTerms t = ltsdBoundaryTerms(phase);
+    return double(shader::ltsdAccuratePhaseIntegral(polygon, t.lobe, t.g, t.lobeWeight, t.isotropic, t.linear));
 }
 
 double hgUpperAmplitude(double g) {

@@ -38,15 +38,17 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, 
     const bool surfaces = scene.surfaces.triangleCount > 0;
     const bool ggx = surfaces && scene.anyGgx;
     const bool anisotropic = ggx && scene.anyAnisotropic;
-    const std::string key =
-        std::to_string(f.lightCount) + "l-" + std::to_string(f.planeCount) + "p-" + std::to_string(f.placement) + "-" +
-        std::to_string(f.transmittance) + (medium ? "" : "-nomedium") + (surfaces ? "" : "-nosurfaces") +
-        (scene.anyTwoSided ? "-twosided" : "") + (ggx ? "-ggx" : "") + (anisotropic ? "-aniso" : "") +
-        (words ? "-w" : "") + (ratio ? "-ratio" : "") + (raster ? "-raster" : "");
+    const std::string key = std::to_string(f.lightCount) + "l-" + std::to_string(f.planeCount) + "p-" +
+                            std::to_string(f.placement) + "-" + std::to_string(f.transmittance) + "-s" +
+                            std::to_string(f.sMethod) + std::to_string(f.sLobe) + (medium ? "" : "-nomedium") +
+                            (surfaces ? "" : "-nosurfaces") + (scene.anyTwoSided ? "-twosided" : "") +
+                            (ggx ? "-ggx" : "") + (anisotropic ? "-aniso" : "") + (words ? "-w" : "") +
+                            (ratio ? "-ratio" : "") + (raster ? "-raster" : "");
     std::string defines = "#define TY_LTSD_LIGHTS " + std::to_string(f.lightCount) + "\n#define TY_LTSD_PLANES " +
-                          std::to_string(f.planeCount) + "\n#define TY_LTSD_PLACEMENT " +
-                          std::to_string(f.placement) + "\n#define TY_LTSD_TRANSMITTANCE " +
-                          std::to_string(f.transmittance) + "\n";
+                          std::to_string(f.planeCount) + "\n#define TY_LTSD_PLACEMENT " + std::to_string(f.placement) +
+                          "\n#define TY_LTSD_TRANSMITTANCE " + std::to_string(f.transmittance) +
+                          "\n#define TY_LTSD_S_METHOD " + std::to_string(f.sMethod) + "\n#define TY_LTSD_S_LOBE " +
+                          std::to_string(f.sLobe) + "\n";
     if (!medium) defines += "#define TY_LTSD_NO_MEDIUM\n";
     if (!surfaces) defines += "#define TY_LTSD_NO_SURFACES\n";
     if (!scene.anyTwoSided) defines += "#define TY_LTSD_ONE_SIDED\n";

@@ -13,7 +13,7 @@
 namespace tyndall::ltsd {
 
 // The std430 sizes the shader reads (glslangValidator -q: the last member's offset plus its size).
-static_assert(sizeof(shader::LtsdFrame) == 292);
+static_assert(sizeof(shader::LtsdFrame) == 296);
 static_assert(sizeof(shader::LtsdLight) == 176);
 
 namespace {
@@ -64,6 +64,11 @@ const std::vector<std::string>& shadowNames() {
     return names;
 }
 
+const std::vector<std::string>& sMethodNames() {
+    static const std::vector<std::string> names{"paper", "accurate"};
+    return names;
+}
+
 Settings settingsFrom(const ParamSet& params) {
     Settings s;
     s.device = deviceFrom(params);
@@ -73,6 +78,7 @@ Settings settingsFrom(const ParamSet& params) {
     s.supersampling = int(params.getInt("supersampling"));
     s.shadows = indexOf(shadowNames(), params.getEnum("shadows"));
     s.ratioSamples = int(params.getInt("ratioSamples"));
+    s.sMethod = indexOf(sMethodNames(), params.getEnum("sMethod"));
     return s;
 }
 
@@ -94,6 +100,7 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     f.placement = settings.placement;
     f.transmittance = settings.transmittance;
     f.supersampling = settings.supersampling;
+    f.sMethod = settings.sMethod;
 
     if (scene.media.size() > 1 || !scene.particleMedia.empty())
         throw InputError(InputLocation{"", 0, 0, "media"},
@@ -146,18 +153,27 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
                 p.planes.emplace_back(glm::vec3(n), float(h.offset / glm::length(h.normal)));
             }
         }
-        // Isotropic and Eddington are exact (no table); the others read the table of their lobe.
-        const std::string tableType = ltsdTableFor(phase.type);
-        LtsdTable table;
-        if (!tableType.empty()) {
-            p.tablePath = ltsdTablePath(tableType).string();
-            table = loadLtsdTable(p.tablePath, tableType);
+        if (settings.sMethod == shader::kLtsdSMethodAccurate) {
+            // The boundary form needs no table.
+            const LtsdBoundaryTerms terms = ltsdBoundaryTerms(phase);
+            f.sLobe = terms.lobe;
+            f.sLobeWeight = terms.lobeWeight;
+            f.phaseIsotropic = terms.isotropic;
+            f.phaseLinear = terms.linear;
+        } else {
+            // Isotropic and Eddington are exact (no table); the others read the table of their lobe.
+            const std::string tableType = ltsdTableFor(phase.type);
+            LtsdTable table;
+            if (!tableType.empty()) {
+                p.tablePath = ltsdTablePath(tableType).string();
+                table = loadLtsdTable(p.tablePath, tableType);
+            }
+            const LtsdPhaseTerms terms = ltsdPhaseTerms(phase, tableType.empty() ? nullptr : &table);
+            f.upper = terms.upper;
+            f.lower = terms.lower;
+            f.phaseIsotropic = terms.isotropic;
+            f.phaseLinear = terms.linear;
         }
-        const LtsdPhaseTerms terms = ltsdPhaseTerms(phase, tableType.empty() ? nullptr : &table);
-        f.upper = terms.upper;
-        f.lower = terms.lower;
-        f.phaseIsotropic = terms.isotropic;
-        f.phaseLinear = terms.linear;
     }
     f.planeCount = int(p.planes.size());
     if (p.planes.empty()) p.planes.emplace_back(0.0f);

@@ -25,6 +25,7 @@ struct Settings {
     int supersampling = 1;
     int shadows = 2;         // 0 off, 1 the raw ratio estimators, 2 numerator and denominator denoised (kShadows*)
     int ratioSamples = 16;  // camera samples per pixel of the ratio estimators
+    int sMethod = shader::kLtsdSMethodAccurate;
 };
 
 inline constexpr int kShadowsOff = 0;
@@ -37,6 +38,7 @@ Settings settingsFrom(const ParamSet& params);
 const std::vector<std::string>& placementNames();
 const std::vector<std::string>& transmittanceNames();
 const std::vector<std::string>& shadowNames();
+const std::vector<std::string>& sMethodNames();
 
 struct PreparedScene {
     shader::LtsdFrame frame{};
@@ -45,8 +47,8 @@ struct PreparedScene {
     GpuSurfaces surfaces;
     bool anyTwoSided = false;
     double g = 0.0;         // the medium's HG (or mix) asymmetry (0 for the others)
-    std::string tablePath;  // the LTSD table the frame's entries come from ("" without a medium, or exact: isotropic,
-                            // eddington)
+    std::string tablePath;  // the LTSD table the frame's entries come from ("" without a medium, with the accurate S,
+                            // or exact: isotropic, eddington)
     bool anyGgx = false;                       // a GGX material
     bool anyAnisotropic = false;               // an anisotropic GGX material (alphaX != alphaY)
     std::vector<shader::LtcEntry> ltcEntries;  // the LTC GGX tables' entries (isotropic, then anisotropic from

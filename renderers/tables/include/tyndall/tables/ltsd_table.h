@@ -41,6 +41,18 @@ double ltsdPhasePolygonIntegral(const LtsdPhase& phase, const std::vector<glm::d
 // with 3 Gauss nodes per edge, no table (docs/tables.md, "S by the boundary form"). Every type but legendre.
 double ltsdAccuratePhaseIntegral(const LtsdPhase& phase, const shader::SphericalPolygon& polygon);
 
+// What the boundary form needs for one phase function (the arguments of shared/ltsd_boundary.h's
+// ltsdAccuratePhaseIntegral): its lobe (kLtsdLobe*; none for isotropic and eddington, which are exact), the lobe's HG
+// asymmetry and weight, and the exact part's weights. Throws InputError for a type without an LTSD form (legendre).
+struct LtsdBoundaryTerms {
+    int lobe = 0;  // shader::kLtsdLobeNone
+    float g = 0.0f;
+    float lobeWeight = 0.0f;
+    float isotropic = 0.0f;  // weight of 1 / (4 pi)
+    float linear = 0.0f;     // weight of mu / (4 pi)
+};
+LtsdBoundaryTerms ltsdBoundaryTerms(const LtsdPhase& phase);
+
 // Henyey-Greenstein's integral over the upper hemisphere of the LTSD frame (omega_o = +z, mu = -z), i.e. over
 // mu in [-1, 0]: a_u(g) = (1 - g) / (sqrt(1 + g^2) (1 + g + sqrt(1 + g^2))), exact and stable for every g in [-1, 1].
 // a_l(g) = a_u(-g), and a_u + a_l = 1.
