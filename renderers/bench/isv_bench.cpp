@@ -11,6 +11,7 @@
 // - BM_IsvVsmSlices/slices, BM_IsvVsmResolution/texels: the volumetric shadow map
 // - BM_IsvPcf/radius: 0 (off), 2 (5 x 5), 4 (9 x 9)
 // - BM_IsvFading/on: extinction fading off (0) or on (1), 1 Simpson step
+// - BM_IsvLights/lights: 1, 2 or 3 lights (one pass each), Simpson 2 steps; the wall time in the counter wallMs
 // - BM_IsvCpu/count: wall time of the CPU model (every core), Simpson 2 steps
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
@@ -91,6 +92,35 @@ void BM_IsvFading(benchmark::State& state) {
     runGpu(state, frameJob({std::string("fading=") + (state.range(0) != 0 ? "true" : "false")}));
 }
 BENCHMARK(BM_IsvFading)->Arg(0)->Arg(1)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
+
+// The cost per added light (issue 32): one pass per light, 5000 particles, Simpson 2 steps; 1 = the smoke's sun, 2 =
+// and a fill light from the other side, 3 = and a spot light above the cloud. GPU time, and the wall time of the whole
+// render in the counter wallMs (preparation and readback included).
+void BM_IsvLights(benchmark::State& state) {
+    std::vector<std::string> overrides = {"camera.width=512", "camera.height=512", "views[isv].parameters.device=gpu",
+                                          "views[isv].parameters.steps=2"};
+    if (state.range(0) >= 2)
+        overrides.push_back(R"(lights[+]={"name": "fill", "type": "directional", "direction": [-0.6, -0.7, 0.4],
+            "irradiance": [1.0, 1.1, 1.3]})");
+    if (state.range(0) >= 3)
+        overrides.push_back(R"(lights[+]={"name": "spot", "type": "point", "position": [1.5, 3.5, 1.5],
+            "intensity": [8, 8, 8], "distribution": {"type": "spot", "axis": [-0.5, -0.85, -0.5], "exponent": 4}})");
+    const Project project = loadProject(techniqueCatalogue(), kProject, overrides);
+    RenderJob job = makeViewJob(project, kProject, "isv", {});
+    runJob(job);  // compiles the pipelines
+    double wall = 0.0;
+    int n = 0;
+    for (auto _ : state) {
+        const RenderResult r = runJob(job);
+        if (r.image.metadata.at("isv:lights") != std::to_string(state.range(0)))
+            state.SkipWithError("the view does not render every light");
+        state.SetIterationTime(std::stod(r.image.metadata.at("gpu:totalMs")) * 1e-3);
+        wall += 1e3 * std::stod(r.image.metadata.at("renderTime"));
+        ++n;
+    }
+    state.counters["wallMs"] = wall / std::max(n, 1);
+}
+BENCHMARK(BM_IsvLights)->DenseRange(1, 3)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
 
 void BM_IsvCpu(benchmark::State& state) {
     RenderJob job = frameJob({"steps=2"}, int(state.range(0)), "cpu");

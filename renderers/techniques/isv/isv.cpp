@@ -107,50 +107,90 @@ void IsvTechnique::check(const RenderRequest& request) const {
     (void)isv::prepareScene(request.scene, isv::settingsFrom(request.params), request.projectDir);
 }
 
+namespace {
+
+// The CPU model's passes for the frame's light: (rgb, transmittance) per pixel of the rendering resolution.
+std::vector<glm::vec4> renderCpu(const isv::PreparedScene& scene, int threads, const RenderCallbacks& callbacks) {
+    const std::atomic<bool>* cancel = callbacks.cancel;
+    std::vector<float> shadow, slabs, vsm;
+    if (scene.shadowMap) shadow = isv::shadowMapCpu(scene, threads, cancel);
+    if (callbacks.progress) callbacks.progress(0.1);
+    if (scene.vsm) {
+        slabs = isv::vsmSlabsCpu(scene, threads, cancel);
+        vsm = isv::slicesFromSlabs(slabs, scene.frame.vsm);
+    }
+    if (callbacks.progress) callbacks.progress(0.3);
+    const std::vector<glm::vec4> background = isv::surfacesCpu(scene, vsm, shadow, threads, cancel);
+    if (callbacks.progress) callbacks.progress(0.5);
+    return isv::compositeCpu(scene, background, vsm, shadow, isv::backToFront(scene), threads, cancel);
+}
+
+}  // namespace
+
 RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     requireSupported(request.scene);
     const isv::Settings settings = isv::settingsFrom(request.params);
-    const isv::PreparedScene scene = isv::prepareScene(request.scene, settings, request.projectDir);
+    isv::PreparedScene scene = isv::prepareScene(request.scene, settings, request.projectDir);
     const int width = request.scene.camera.width, height = request.scene.camera.height;
     const int ss = scene.supersampling;
+    const int lights = isv::lightCount(request.scene);
+    const int passes = std::max(lights, 1);
 
     bool onGpu = runsOnGpu(settings.device, AutoDevice::Gpu);
     std::string fallback;
     if (onGpu) {
-        // What the device cannot hold or do (its buffer and image limits, dual-source blending for coloured shadows):
-        // an error under device = gpu, the CPU model under auto.
-        if (const std::optional<InputError> problem = isv::deviceLimitProblem(scene, gpu::sharedContext()->device())) {
-            if (settings.device == Device::Gpu) throw *problem;
-            onGpu = false;
-            fallback = problem->where().field + ": " + problem->message() + " (rendered on the CPU)";
+        // What the device cannot hold or do for any light (its buffer and image limits, dual-source blending for
+        // coloured shadows): an error under device = gpu, the CPU model under auto.
+        for (int light = 0; light < lights && onGpu; ++light) {
+            isv::lightScene(scene, request.scene, settings, light);
+            if (const std::optional<InputError> problem =
+                    isv::deviceLimitProblem(scene, gpu::sharedContext()->device())) {
+                if (settings.device == Device::Gpu) throw *problem;
+                onGpu = false;
+                fallback = problem->where().field + ": " + problem->message() + " (rendered on the CPU)";
+            }
         }
     }
+
+    // One pass per light, summed: every term of ISV's radiance (the particles' in-scattering, Eq. 7, and the surfaces'
+    // reflection) is linear in the light, and the compositing's transmittance does not depend on it.
     std::vector<glm::vec4> pixels;
     std::string deviceName = "cpu";
     std::string proxies = "none (the CPU model intersects each pixel's ray with the tetrahedra)";
     isv::GpuTimings timings;
-    if (onGpu) {
-        if (!gpu_) gpu_ = std::make_unique<isv::GpuRenderer>();
-        isv::GpuOutput g = gpu_->render(scene, callbacks, settings.proxies);
-        pixels = std::move(g.pixels);
-        deviceName = g.deviceName;
-        timings = g.timings;
-        proxies = g.meshProxies ? "mesh" : "geometry";
-    } else {
-        const std::atomic<bool>* cancel = callbacks.cancel;
-        std::vector<float> shadow, slabs, vsm;
-        if (scene.shadowMap) shadow = isv::shadowMapCpu(scene, request.threads, cancel);
-        if (callbacks.progress) callbacks.progress(0.1);
-        if (scene.vsm) {
-            slabs = isv::vsmSlabsCpu(scene, request.threads, cancel);
-            vsm = isv::slicesFromSlabs(slabs, scene.frame.vsm);
+    for (int pass = 0; pass < passes; ++pass) {
+        isv::lightScene(scene, request.scene, settings, lights == 0 ? -1 : pass);
+        RenderCallbacks passCallbacks = callbacks;
+        if (callbacks.progress)
+            passCallbacks.progress = [&callbacks, pass, passes](double x) {
+                callbacks.progress((double(pass) + x) / double(passes));
+            };
+        std::vector<glm::vec4> lit;
+        if (onGpu) {
+            if (!gpu_) gpu_ = std::make_unique<isv::GpuRenderer>();
+            isv::GpuOutput g = gpu_->render(scene, passCallbacks, settings.proxies);
+            lit = std::move(g.pixels);
+            deviceName = g.deviceName;
+            timings.totalMs += g.timings.totalMs;
+            timings.shadowMapMs += g.timings.shadowMapMs;
+            timings.vsmMs += g.timings.vsmMs;
+            timings.surfacesMs += g.timings.surfacesMs;
+            timings.sortMs += g.timings.sortMs;
+            timings.particlesMs += g.timings.particlesMs;
+            timings.longestSliceMs = std::max(timings.longestSliceMs, g.timings.longestSliceMs);
+            timings.compileSeconds += g.timings.compileSeconds;
+            proxies = g.meshProxies ? "mesh" : "geometry";
+        } else {
+            lit = renderCpu(scene, request.threads, passCallbacks);
         }
-        if (callbacks.progress) callbacks.progress(0.3);
-        const std::vector<glm::vec4> background = isv::surfacesCpu(scene, vsm, shadow, request.threads, cancel);
-        if (callbacks.progress) callbacks.progress(0.5);
-        pixels = isv::compositeCpu(scene, background, vsm, shadow, isv::backToFront(scene), request.threads, cancel);
+        if (pass == 0) {
+            pixels = std::move(lit);
+        } else {
+            for (std::size_t i = 0; i < pixels.size(); ++i)
+                pixels[i] += glm::vec4(glm::vec3(lit[i]), 0.0f);
+        }
     }
 
     RenderResult result;
@@ -178,6 +218,7 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
     meta["device"] = deviceName;
     meta["nonFiniteSamples"] = std::to_string(nonFinite);
     meta["isv:particles"] = std::to_string(scene.particles.size());
+    meta["isv:lights"] = std::to_string(lights);
     if (!fallback.empty()) meta["isv:fallback"] = fallback;
     meta["isv:proxies"] = proxies;
     if (onGpu) {

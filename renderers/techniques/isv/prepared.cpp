@@ -98,6 +98,10 @@ Settings settingsFrom(const ParamSet& params) {
     return s;
 }
 
+int lightCount(const Scene& scene) {
+    return int(scene.directionalLights.size() + scene.pointLights.size());
+}
+
 PreparedScene prepareScene(const Scene& scene, const Settings& settings, const std::string& projectDir) {
     PreparedScene p;
     shader::IsvFrame& f = p.frame;
@@ -108,43 +112,13 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     f.fading = settings.fading ? 1 : 0;
     f.pcfRadius = settings.pcfRadius;
 
-    const std::size_t lights = scene.directionalLights.size() + scene.pointLights.size();
-    if (lights > 1)
-        throw InputError(InputLocation{"", 0, 0, "lights"},
-                         "ISV renders one light (a directional light as the thesis, or a point or spot light); this "
-                         "view has " + std::to_string(lights) + ": choose one in the view's lights");
     if (int(scene.particleMedia.size()) > shader::kIsvMaxMedia)
-        throw InputError(InputLocation{"", 0, 0, "particleMedia"},
-                         "ISV renders at most " + std::to_string(shader::kIsvMaxMedia) +
-                             " particle media in one view; this view has " +
-                             std::to_string(scene.particleMedia.size()));
-    f.lightType = shader::kIsvDirectional;
-    f.lightDirection = glm::vec3(0.0f, -1.0f, 0.0f);
-    if (!scene.directionalLights.empty()) {
-        const DirectionalLight& light = scene.directionalLights.front();
-        f.lightDirection = glm::normalize(glm::vec3(light.direction));
-        f.irradiance = glm::vec3(light.irradiance);
-    }
-    const PointLight* point = scene.pointLights.empty() ? nullptr : &scene.pointLights.front();
-    if (point) {
-        f.lightType = shader::kIsvPoint;
-        f.lightPosition = glm::vec3(point->position);
-        f.irradiance = glm::vec3(point->intensity);
-        f.lightAxis = glm::normalize(glm::vec3(point->distribution.axis));
-        if (point->distribution.kind == AngularDistribution::Kind::Spot) {
-            f.distributionTerms = -1;
-            f.spotExponent = float(point->distribution.spotExponent);
-        } else if (point->distribution.kind != AngularDistribution::Kind::Isotropic) {
-            const std::vector<double> c = point->distribution.polynomial();
-            TY_CHECK(c.size() <= std::size_t(shader::kIsvMaxDistributionTerms), "the loader limits the terms");
-            f.distributionTerms = int(c.size());
-            for (std::size_t k = 0; k < c.size(); ++k)
-                f.distribution[k] = float(c[k]);
-        }
-    }
+        throw InputError(InputLocation{"", 0, 0, "particleMedia"}, "ISV renders at most " +
+                                                                       std::to_string(shader::kIsvMaxMedia) +
+                                                                       " particle media in one view; this view has " +
+                                                                       std::to_string(scene.particleMedia.size()));
 
     f.mediumCount = int(scene.particleMedia.size());
-    std::vector<glm::vec3> vertices;
     for (std::size_t m = 0; m < scene.particleMedia.size(); ++m) {
         const ParticleMedium& medium = scene.particleMedia[m];
         f.media[m].albedo = glm::vec3(medium.albedo);
@@ -169,11 +143,76 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
             const double u = particle.scale * particle.falloff;
             q.k = float(50.0 / (u * u));
             q.medium = int(m);
-            for (const Vec3& x : v)
-                vertices.push_back(glm::vec3(x));
             p.particles.push_back(q);
         }
     }
+
+    p.surfaces = prepareGpuSurfaces(scene, projectDir);
+    p.supersampling = settings.supersampling;
+    p.nearPlane = settings.nearPlane;
+    p.width = scene.camera.width * settings.supersampling;
+    p.height = scene.camera.height * settings.supersampling;
+    Camera camera = scene.camera;
+    camera.width = p.width;
+    camera.height = p.height;
+    p.camera = toCameraParams(camera);
+
+    // Every light is checked (its perspective maps must hold the particles), then the first one is set.
+    for (int light = lightCount(scene) - 1; light >= 0; --light)
+        lightScene(p, scene, settings, light);
+    if (lightCount(scene) == 0) lightScene(p, scene, settings, -1);
+    return p;
+}
+
+void lightScene(PreparedScene& p, const Scene& scene, const Settings& settings, int light) {
+    shader::IsvFrame& f = p.frame;
+    const int directionalCount = int(scene.directionalLights.size());
+    const DirectionalLight* directional =
+        light >= 0 && light < directionalCount ? &scene.directionalLights[std::size_t(light)] : nullptr;
+    const PointLight* point = light >= directionalCount && light < lightCount(scene)
+                                  ? &scene.pointLights[std::size_t(light - directionalCount)]
+                                  : nullptr;
+    TY_CHECK(light == -1 || directional || point, "lightScene: light index out of range");
+    // Without a light the frame holds a black directional one.
+    f.lightType = shader::kIsvDirectional;
+    f.lightDirection = glm::vec3(0.0f, -1.0f, 0.0f);
+    f.irradiance = glm::vec3(0.0f);
+    f.lightPosition = glm::vec3(0.0f);
+    f.lightAxis = glm::vec3(0.0f);
+    f.distributionTerms = 0;
+    f.spotExponent = 0.0f;
+    std::fill(std::begin(f.distribution), std::end(f.distribution), 0.0f);
+    f.hasVsm = 0;
+    f.vsm = shader::IsvLightSpace{};
+    f.hasShadowMap = 0;
+    f.shadowMap = shader::IsvLightSpace{};
+    f.shadowBias = 0.0f;
+    if (directional) {
+        f.lightDirection = glm::normalize(glm::vec3(directional->direction));
+        f.irradiance = glm::vec3(directional->irradiance);
+    }
+    if (point) {
+        f.lightType = shader::kIsvPoint;
+        f.lightPosition = glm::vec3(point->position);
+        f.irradiance = glm::vec3(point->intensity);
+        f.lightAxis = glm::normalize(glm::vec3(point->distribution.axis));
+        if (point->distribution.kind == AngularDistribution::Kind::Spot) {
+            f.distributionTerms = -1;
+            f.spotExponent = float(point->distribution.spotExponent);
+        } else if (point->distribution.kind != AngularDistribution::Kind::Isotropic) {
+            const std::vector<double> c = point->distribution.polynomial();
+            TY_CHECK(c.size() <= std::size_t(shader::kIsvMaxDistributionTerms), "the loader limits the terms");
+            f.distributionTerms = int(c.size());
+            for (std::size_t k = 0; k < c.size(); ++k)
+                f.distribution[k] = float(c[k]);
+        }
+    }
+
+    std::vector<glm::vec3> vertices;
+    vertices.reserve(p.particles.size() * 4);
+    for (const shader::IsvParticle& q : p.particles)
+        for (const glm::vec3& v : {q.v0, q.v1, q.v2, q.v3})
+            vertices.push_back(v);
 
     // The light's view of the particles: orthographic along a directional light, or the frustum from a point light
     // towards the particles' bounding box, which must lie in front of the light.
@@ -212,17 +251,7 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
                          "the particle cloud spans more than 160 degrees seen from the point light; ISV's perspective "
                          "shadow maps cover less (move the light away from the cloud)");
 
-    p.surfaces = prepareGpuSurfaces(scene, projectDir);
-    p.supersampling = settings.supersampling;
-    p.nearPlane = settings.nearPlane;
-    p.width = scene.camera.width * settings.supersampling;
-    p.height = scene.camera.height * settings.supersampling;
-    Camera camera = scene.camera;
-    camera.width = p.width;
-    camera.height = p.height;
-    p.camera = toCameraParams(camera);
-
-    const bool lit = lights > 0;
+    const bool lit = directional || point;
     p.vsm = lit && settings.selfShadowing && !p.particles.empty();
     if (p.vsm) {
         f.hasVsm = 1;
@@ -257,7 +286,6 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
             f.shadowBias = 2.0f * f.shadowMap.texel;
         }
     }
-    return p;
 }
 
 bool inFrontOfNearPlane(const PreparedScene& scene, const shader::IsvParticle& p) {

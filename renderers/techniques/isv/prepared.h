@@ -1,7 +1,7 @@
 // The ISV technique's scene, prepared once per render for both paths: the particles as tetrahedra (std430 array of
-// shaders/shared/isv.h), the frame (light, media, integration settings, the two light-space grids), the surfaces and
-// their BVH, and the camera at the rendering resolution. The CPU model of every pass lives here too, so that the GPU
-// renderer and the tests compare against one definition of what ISV computes.
+// shaders/shared/isv.h), the frame (one light, media, integration settings, the light's two light-space grids), the
+// surfaces and their BVH, and the camera at the rendering resolution. The CPU model of every pass lives here too, so
+// that the GPU renderer and the tests compare against one definition of what ISV computes.
 #pragma once
 
 #include "tyndall/framework/gpu_surfaces.h"
@@ -59,9 +59,18 @@ struct PreparedScene {
     bool chromatic = false;  // a medium's extinction differs per channel: RGB transmittance (coloured shadows)
 };
 
-// Throws InputError for what ISV cannot render: no directional light or more than one, a gobo, more than
-// kIsvMaxMedia particle media, an unreadable OBJ.
+// The scene's lights that ISV renders: its directional lights, then its point (and spot) lights, one pass each; the
+// passes' images sum to the image lit by all of them.
+int lightCount(const Scene& scene);
+
+// Throws InputError for what ISV cannot render: more than kIsvMaxMedia particle media, a point light that its
+// perspective maps cannot hold (inside or beside the particles), an unreadable OBJ. The frame is lit by light 0
+// (black without a light); lightScene sets another.
 PreparedScene prepareScene(const Scene& scene, const Settings& settings, const std::string& projectDir);
+
+// Sets the frame's light to the scene's light `light` (as lightCount orders them; -1: none) with its light-space grids
+// and which maps it needs; the particles, surfaces and camera are kept. Throws InputError as prepareScene.
+void lightScene(PreparedScene& p, const Scene& scene, const Settings& settings, int light);
 
 // The particle's view depth range is in front of the near plane (the others are culled, as in the thesis).
 bool inFrontOfNearPlane(const PreparedScene& scene, const shader::IsvParticle& p);

@@ -73,6 +73,16 @@ const QString kDefaultProject = TYNDALL_SOURCE_DIR "/projects/default.json";
 // Small renders so that the suite stays short: the project's camera and its reference at a few spp.
 inline const std::vector<std::string> kSmall = {"camera.width=96", "camera.height=72", "reference.spp=8"};
 
+// Writes `project` as TYNDALL_TEST_TMP/<name> and returns its path ("" when it cannot be written).
+inline QString writeTestProject(const nlohmann::json& project, const QString& name) {
+    if (!QDir().mkpath(TYNDALL_TEST_TMP)) return {};
+    const QString path = QString(TYNDALL_TEST_TMP) + "/" + name;
+    QFile file(path);
+    if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate)) return {};
+    file.write(QByteArray::fromStdString(project.dump(2)));
+    return path;
+}
+
 inline double sum(const Image& image) {
     double s = 0.0;
     for (int y = 0; y < image.height(); ++y)

@@ -22,13 +22,8 @@ private slots:
         project["views"] = nlohmann::json::array({project["views"][2]});  // "area light", LTSD
         project["camera"]["width"] = 480;
         project["camera"]["height"] = 360;
-        QVERIFY(QDir().mkpath(TYNDALL_TEST_TMP));
-        const QString path = QString(TYNDALL_TEST_TMP) + "/ltsd-alone.json";
-        {
-            QFile file(path);
-            QVERIFY(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
-            file.write(QByteArray::fromStdString(project.dump(2)));
-        }
+        const QString path = writeTestProject(project, "ltsd-alone.json");
+        QVERIFY(!path.isEmpty());
         QVERIFY(window_->openProject(path, false));
         Studio& studio = window_->studio();
         // The window's --set makes every project small: this one is large again (one edit).
@@ -543,6 +538,44 @@ private slots:
         QVERIFY(!window_->findChild<QCheckBox*>(toggle->objectName())->isChecked());
         QCOMPARE(window_->studio().frames()[3].state, state);
         QTRY_VERIFY_WITH_TIMEOUT(window_->studio().settled(), 120000);
+    }
+
+    // ISV renders every light of its view (issue 32): the Parameters dock enables each of the scene's lights for an
+    // ISV view, and unchecking or checking one renders the view again with that many lights.
+    void anIsvViewRendersEveryCheckedLight() {
+        QFile source(QString(TYNDALL_SOURCE_DIR) + "/projects/isv/key-fill-spot.json");
+        QVERIFY(source.open(QIODevice::ReadOnly));
+        nlohmann::json project = nlohmann::json::parse(source.readAll().toStdString());
+        project["views"] = nlohmann::json::array({project["views"][0]});  // "isv": key, fill and spot
+        project["particleMedia"][0]["generator"]["count"] = 300;
+        const QString path = writeTestProject(project, "isv-lights.json");
+        QVERIFY(!path.isEmpty());
+        QVERIFY(window_->openProject(path, false));
+        Studio& studio = window_->studio();
+        studio.selectView(0);
+        auto lightsRendered = [&] {
+            const std::shared_ptr<const Image>& image = studio.frames()[0].image;
+            if (!image || !image->metadata.count("isv:lights")) return QString();
+            return QString::fromStdString(image->metadata.at("isv:lights"));
+        };
+        QTRY_COMPARE_WITH_TIMEOUT(lightsRendered(), QString("3"), 120000);
+        auto box = [&](const char* light) { return window_->findChild<QCheckBox*>(QString("part:") + light); };
+        for (const char* light : {"key", "fill", "spot"}) {
+            QVERIFY2(box(light), light);
+            QVERIFY2(box(light)->isEnabled(), qPrintable(box(light)->toolTip()));
+            QVERIFY2(box(light)->isChecked(), light);
+        }
+        box("fill")->setChecked(false);
+        QCoreApplication::processEvents();
+        std::vector<std::string> lights = studio.session().project().views[0].part->lights;
+        std::sort(lights.begin(), lights.end());
+        QCOMPARE(lights, (std::vector<std::string>{"key", "spot"}));
+        QTRY_COMPARE_WITH_TIMEOUT(lightsRendered(), QString("2"), 120000);
+        box("fill")->setChecked(true);
+        QCoreApplication::processEvents();
+        QCOMPARE(studio.session().project().views[0].part->lights.size(), std::size_t(3));
+        QTRY_COMPARE_WITH_TIMEOUT(lightsRendered(), QString("3"), 120000);
+        QTRY_VERIFY_WITH_TIMEOUT(studio.settled(), 240000);
     }
 
     // The wheel over a field of the Parameters or Scene dock without focus scrolls the dock and changes nothing
