@@ -28,8 +28,9 @@ struct CliRun {
     std::string output;  // stdout and stderr
 };
 
-CliRun tyndall(const std::string& args) {
-    std::string command = std::string(TYNDALL_CLI) + " " + args + " 2>&1";
+// `env`: assignments before the command, e.g. "TYNDALL_ROOT='/x' ".
+CliRun tyndall(const std::string& args, const std::string& env = "") {
+    std::string command = env + std::string(TYNDALL_CLI) + " " + args + " 2>&1";
     CliRun run;
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return run;
@@ -299,6 +300,44 @@ TEST(Cli, RendersTheIsvSmokeOnBothDevicesAndRefusesAnAreaLight) {
     EXPECT_EQ(area.exitCode, 2) << area.output;
     EXPECT_NE(area.output.find("not a directional light"), std::string::npos) << area.output;
     EXPECT_FALSE(fs::exists(out));
+}
+
+// The data files are found through resourceRoot() (tyndall/core/resources.h): with $TYNDALL_ROOT set, a GPU view
+// compiles the shaders and the paper's S reads the table found there, so that an installed or unpacked copy runs away
+// from the source tree; a root without them is an error that names the file looked for, not an image.
+TEST(Cli, DataFilesComeFromTyndallRoot) {
+    const fs::path dir = scratch("root");
+    const fs::path root = dir / "share";
+    fs::create_directories(root);
+    fs::copy(source("shaders"), root / "shaders", fs::copy_options::recursive);
+    fs::copy(source("tables"), root / "tables", fs::copy_options::recursive);
+    const std::string project = source("projects/examples/ltsd-room.json");
+    const std::string view =
+        "--view 'ltsd paper' --size 16x12 --set 'views[ltsd paper].parameters.device=gpu' "
+        "--set 'views[ltsd paper].parameters.shadows=off' -o '";
+    const std::string exr = (dir / "room.exr").string();
+    const CliRun run = tyndall("render '" + project + "' " + view + exr + "'", "TYNDALL_ROOT='" + root.string() + "' ");
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    const tyndall::Image image = tyndall::readImage(exr);
+    EXPECT_NE(image.metadata.at("device"), "cpu");
+    EXPECT_EQ(image.metadata.at("ltsd:table"), (root / "tables" / "hg.ltsd").string());
+
+    const fs::path empty = dir / "empty";
+    fs::create_directories(empty);
+    const std::string none = (dir / "none.exr").string();
+    const CliRun missing =
+        tyndall("render '" + project + "' " + view + none + "'", "TYNDALL_ROOT='" + empty.string() + "' ");
+    EXPECT_NE(missing.exitCode, 0) << missing.output;
+    EXPECT_NE(missing.output.find((empty / "tables" / "hg.ltsd").string()), std::string::npos) << missing.output;
+    EXPECT_FALSE(fs::exists(none));
+    // The tables but no shaders: the GPU view's kernel is looked for under the root, not in the source tree.
+    fs::copy(source("tables"), empty / "tables", fs::copy_options::recursive);
+    const CliRun noShaders =
+        tyndall("render '" + project + "' " + view + none + "'", "TYNDALL_ROOT='" + empty.string() + "' ");
+    EXPECT_NE(noShaders.exitCode, 0) << noShaders.output;
+    EXPECT_NE(noShaders.output.find((empty / "shaders" / "ltsd" / "ltsd.comp.glsl").string()), std::string::npos)
+        << noShaders.output;
+    EXPECT_FALSE(fs::exists(none));
 }
 
 TEST(Cli, RendersTheWvdsExampleAndWritesItsDistanceProbe) {

@@ -8,6 +8,7 @@
 //   (orders:0), orders 1..n through expintEnScaledAll's array (orders:1) or streamed from the recurrence pivot without
 //   an array (orders:2); GPU time per invocation (the CPU side is in expint_bench.cpp).
 #include "tyndall/core/geometry.h"
+#include "tyndall/core/resources.h"
 #include "tyndall/gpu/bvh.h"
 #include "tyndall/gpu/harness.h"
 #include "tyndall/gpu/resources.h"
@@ -80,7 +81,7 @@ struct ShadowRays {
 const ShadowRays& shadowRays() {
     static ShadowRays r = [] {
         ShadowRays out;
-        const std::string dir = std::string(TYNDALL_SOURCE_DIR) + "/projects";
+        const std::string dir = (tyndall::resourceRoot() / "projects").string();
         tyndall::Project project = tyndall::loadProject(tyndall::techniqueCatalogue(), dir + "/default.json");
         for (const tyndall::Mesh& mesh : project.scene.meshes) out.meshes.push_back(tyndall::buildMesh(mesh, dir));
         out.bvh = tyndall::gpu::buildBvh(out.meshes);

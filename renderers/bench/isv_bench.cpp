@@ -13,6 +13,7 @@
 // - BM_IsvFading/on: extinction fading off (0) or on (1), 1 Simpson step
 // - BM_IsvLights/lights: 1, 2 or 3 lights (one pass each), Simpson 2 steps; the wall time in the counter wallMs
 // - BM_IsvCpu/count: wall time of the CPU model (every core), Simpson 2 steps
+#include "tyndall/core/resources.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
 #include "tyndall/techniques/render.h"
@@ -26,7 +27,7 @@ using namespace tyndall;
 
 namespace {
 
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/isv/smoke.json";
+const std::string kProject = (tyndall::resourceRoot() / "projects").string() + "/isv/smoke.json";
 
 RenderJob frameJob(std::vector<std::string> parameters, int count = 5000, const std::string& device = "gpu") {
     std::vector<std::string> overrides = {"camera.width=512", "camera.height=512",

@@ -4,6 +4,7 @@
 //   build/renderers/bench/tyndall_lit_intervals_bench
 #include "shared/lit_intervals.h"
 #include "tyndall/core/geometry.h"
+#include "tyndall/core/resources.h"
 #include "tyndall/gpu/bvh.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
@@ -30,7 +31,7 @@ struct CameraRays {
 const CameraRays& cameraRays() {
     static CameraRays r = [] {
         CameraRays out;
-        const std::string dir = std::string(TYNDALL_SOURCE_DIR) + "/projects";
+        const std::string dir = (tyndall::resourceRoot() / "projects").string();
         tyndall::Project project = tyndall::loadProject(tyndall::techniqueCatalogue(), dir + "/default.json");
         std::vector<tyndall::TriangleMesh> meshes;
         for (const tyndall::Mesh& mesh : project.scene.meshes)

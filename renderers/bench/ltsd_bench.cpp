@@ -14,6 +14,7 @@
 // - BM_LtsdSMethod/device: N = 8, one light, the accurate S (the default) and the paper's alternately, on the GPU (0)
 //   and the CPU (1): wall time per render in the counters accurateMs and paperMs (issue 32).
 // Every case but BM_LtsdGpuRatio1 is unshadowed (shadows = off); every case but BM_LtsdSMethod uses the default S.
+#include "tyndall/core/resources.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
 #include "tyndall/techniques/render.h"
@@ -28,7 +29,7 @@ using namespace tyndall;
 
 namespace {
 
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/ltsd-room.json";
+const std::string kProject = (tyndall::resourceRoot() / "projects").string() + "/examples/ltsd-room.json";
 
 RenderJob frameJob(int nodes, int lights, const std::string& device, const std::string& transmittance = "min-distance",
                    const std::string& shadows = "off", const std::string& sMethod = "accurate") {

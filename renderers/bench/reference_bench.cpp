@@ -4,6 +4,7 @@
 // query (occlusion plus exact transmittance through the media) is reported beside it.
 #include "reference/integrator.h"
 
+#include "tyndall/core/resources.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
 
@@ -25,8 +26,9 @@ struct ShadowRays {
 const ShadowRays& shadowRays() {
     static ShadowRays rays = [] {
         ShadowRays r;
-        Project project = loadProject(techniqueCatalogue(), std::string(TYNDALL_SOURCE_DIR) + "/projects/default.json");
-        r.scene = reference::prepareScene(project.scene, std::string(TYNDALL_SOURCE_DIR) + "/projects");
+        Project project =
+            loadProject(techniqueCatalogue(), (tyndall::resourceRoot() / "projects").string() + "/default.json");
+        r.scene = reference::prepareScene(project.scene, (tyndall::resourceRoot() / "projects").string());
         std::mt19937 rng(1);
         std::uniform_real_distribution<float> u(0.0f, 1.0f);
         const glm::vec3 lamp = r.scene->pointLights.at(0).position;

@@ -12,6 +12,7 @@
 // converged image's own noise (its variance channels: E[err^2] = MSE + var_ref), so that a good estimator is not
 // floored by the reference. From the series, by log-log interpolation (extrapolation past the ends is marked):
 // the CPU time to relMSE 1e-3 and the RMSE at SECONDS CPU seconds, and the ratio of each variant to the first.
+#include "tyndall/core/resources.h"
 #include "tyndall/image/image_io.h"
 #include "tyndall/image/metrics.h"
 #include "tyndall/project/project.h"
@@ -107,7 +108,7 @@ int main(int argc, char** argv) {
 
     try {
         for (const char* sceneName : kScenes) {
-            const std::string path = std::string(TYNDALL_SOURCE_DIR) + "/projects/bench/" + sceneName + ".json";
+            const std::string path = (tyndall::resourceRoot() / "projects").string() + "/bench/" + sceneName + ".json";
             const Project project =
                 loadProject(techniqueCatalogue(), path,
                             {"camera.width=" + std::to_string(size), "camera.height=" + std::to_string(size)});

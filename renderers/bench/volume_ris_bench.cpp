@@ -6,6 +6,7 @@
 //   render compiles the pipeline and is not timed.
 // - BM_VolumeRisCpu/M/sampling: wall time of the CPU path (every core).
 // docs/volume-ris.md, Measured, has the numbers.
+#include "tyndall/core/resources.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
 #include "tyndall/techniques/render.h"
@@ -19,7 +20,7 @@ using namespace tyndall;
 
 namespace {
 
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/volume-ris-shaft.json";
+const std::string kProject = (tyndall::resourceRoot() / "projects").string() + "/examples/volume-ris-shaft.json";
 
 RenderJob frameJob(int candidates, bool area, const std::string& device) {
     const std::vector<std::string> overrides = {

@@ -8,6 +8,7 @@
 //   the technique's own pass as the paper times it (Sec. 7). Target on lavapipe: analytic <= 10 ms. (docs/wvds.md,
 //   Measured, has the numbers and what the full frame adds.)
 // - BM_WvdsCpu/estimator: wall time of the CPU path (every core).
+#include "tyndall/core/resources.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
 #include "tyndall/techniques/render.h"
@@ -21,7 +22,7 @@ using namespace tyndall;
 
 namespace {
 
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/wvds-box.json";
+const std::string kProject = (tyndall::resourceRoot() / "projects").string() + "/examples/wvds-box.json";
 const char* kEstimators[] = {"analytic", "mcwvds", "reds", "rees", "rm", "mcds"};
 
 RenderJob frameJob(const std::string& estimator, const std::string& device, bool meshes = true) {

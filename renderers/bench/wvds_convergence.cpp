@@ -4,6 +4,7 @@
 //   build/renderers/bench/tyndall_wvds_convergence [WIDTH HEIGHT [CONVERGED_SPP]]     (default 256 192 8192)
 // The converged image is MCWVDS at CONVERGED_SPP with a seed none of the runs use; PSNR uses the views' exposure, as
 // `tyndall compare` does. Prints a table and a CSV (estimator,spp,seconds,psnr,relMSE).
+#include "tyndall/core/resources.h"
 #include "tyndall/image/metrics.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
@@ -18,7 +19,7 @@
 using namespace tyndall;
 
 namespace {
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/wvds-box.json";
+const std::string kProject = (tyndall::resourceRoot() / "projects").string() + "/examples/wvds-box.json";
 }
 
 int main(int argc, char** argv) {

@@ -2,6 +2,7 @@
 
 #include "trace.h"
 
+#include "tyndall/core/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
 
 #include <QKeyEvent>
@@ -25,7 +26,7 @@ struct Push {
 };
 
 std::vector<std::uint32_t> compileStage(const std::string& name, gpu::ShaderStage stage) {
-    const std::string path = std::string(TYNDALL_SHADER_DIR) + "/studio/" + name;
+    const std::string path = (shaderDirectory() / "studio" / name).string();
     std::ifstream file(path);
     if (!file) throw std::runtime_error("cannot read the shader " + path);
     std::stringstream text;

@@ -3,6 +3,7 @@
 #include "tyndall/framework/kernel_cache.h"
 
 #include "shared/constants.h"
+#include "tyndall/core/resources.h"
 #include "tyndall/gpu/graphics.h"
 #include "tyndall/gpu/shader_compiler.h"
 
@@ -22,7 +23,7 @@ struct Push {
 constexpr std::uint64_t kMaxTriangles = std::uint64_t(1) << 24;
 
 std::string shaderPath(const char* name) {
-    return std::string(TYNDALL_SHADER_DIR) + "/primary/" + name;
+    return (shaderDirectory() / "primary" / name).string();
 }
 
 }  // namespace

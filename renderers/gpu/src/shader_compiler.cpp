@@ -1,5 +1,7 @@
 #include "tyndall/gpu/shader_compiler.h"
 
+#include "tyndall/core/resources.h"
+
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
@@ -12,10 +14,6 @@
 #include <set>
 #include <sstream>
 #include <utility>
-
-#ifndef TYNDALL_SHADER_DIR
-#error "TYNDALL_SHADER_DIR must name the source tree's shaders/ folder"
-#endif
 
 namespace fs = std::filesystem;
 
@@ -147,7 +145,7 @@ std::optional<ShaderStage> stageFromPath(const fs::path& path) {
 }
 
 std::vector<fs::path> defaultShaderIncludeDirs() {
-    return {fs::path(TYNDALL_SHADER_DIR)};
+    return {shaderDirectory()};
 }
 
 std::string ShaderDiagnostic::toString() const {

@@ -2,6 +2,7 @@
 // ray-query backend (acceleration structures and shaders/features/ray_query_visibility.comp.glsl). See visibility.h.
 #include "tyndall/gpu/visibility.h"
 
+#include "tyndall/core/resources.h"
 #include "tyndall/core/scene.h"
 #include "tyndall/gpu/bvh.h"
 #include "tyndall/gpu/resources.h"
@@ -339,7 +340,7 @@ void Visibility::RayQuery::build(const std::vector<TriangleMesh>& meshes) {
 void Visibility::RayQuery::createPipeline() {
     VkDevice device = context.vk();
     std::vector<std::uint32_t> spirv =
-        compileGlslOrThrow(std::string(TYNDALL_SHADER_DIR) + "/features/ray_query_visibility.comp.glsl");
+        compileGlslOrThrow((shaderDirectory() / "features/ray_query_visibility.comp.glsl").string());
     VkShaderModuleCreateInfo moduleInfo{};
     moduleInfo.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
     moduleInfo.codeSize = spirv.size() * sizeof(std::uint32_t);

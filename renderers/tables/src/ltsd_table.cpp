@@ -3,6 +3,7 @@
 #include "shared/ltsd_boundary.h"
 
 #include "table_file.h"
+#include "tyndall/core/resources.h"
 #include "tyndall/core/text.h"
 
 #include "tyndall/core/error.h"
@@ -388,13 +389,7 @@ LtsdTable loadLtsdTable(const std::filesystem::path& file, const std::string& ex
 std::filesystem::path ltsdTablesDirectory(const std::string& overrideDir) {
     if (!overrideDir.empty()) return overrideDir;
     if (const char* env = std::getenv("TYNDALL_TABLES_DIR"); env && *env) return env;
-    std::error_code ec;
-    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "tyndall" / "tables";
-        if (std::filesystem::is_directory(installed, ec)) return installed;
-    }
-    return TYNDALL_TABLES_SOURCE_DIR;
+    return resourceRoot() / "tables";
 }
 
 std::filesystem::path ltsdTablePath(const std::string& phaseType, const std::string& overrideDir) {

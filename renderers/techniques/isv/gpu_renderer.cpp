@@ -1,6 +1,7 @@
 #include "isv/gpu_renderer.h"
 
 #include "tyndall/core/error.h"
+#include "tyndall/core/resources.h"
 #include "tyndall/framework/kernel_cache.h"
 #include "tyndall/gpu/graphics.h"
 #include "tyndall/gpu/resources.h"
@@ -53,7 +54,7 @@ struct SumPush {
 };
 
 std::string shaderPath(const std::string& name) {
-    return std::string(TYNDALL_SHADER_DIR) + "/isv/" + name;
+    return (shaderDirectory() / "isv" / name).string();
 }
 
 // Compiles shaders/isv/<name> with `defines` inserted after its #version line.

@@ -1,6 +1,7 @@
 #include "ltsd/gpu_renderer.h"
 
 #include "tyndall/core/error.h"
+#include "tyndall/core/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
 #include "tyndall/gpu/slicer.h"
 
@@ -24,7 +25,7 @@ struct Push {
 };
 
 std::string shaderPath() {
-    return std::string(TYNDALL_SHADER_DIR) + "/ltsd/ltsd.comp.glsl";
+    return shaderDirectory().string() + "/ltsd/ltsd.comp.glsl";
 }
 
 }  // namespace

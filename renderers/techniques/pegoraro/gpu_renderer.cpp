@@ -1,6 +1,7 @@
 #include "pegoraro/gpu_renderer.h"
 
 #include "tyndall/core/error.h"
+#include "tyndall/core/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
 #include "tyndall/gpu/slicer.h"
 
@@ -22,7 +23,7 @@ struct Push {
 };
 
 std::string shaderPath() {
-    return std::string(TYNDALL_SHADER_DIR) + "/pegoraro/pegoraro.comp.glsl";
+    return shaderDirectory().string() + "/pegoraro/pegoraro.comp.glsl";
 }
 
 // Array sizes come in a few steps, so that a scene's order picks one of a handful of variants.

@@ -1,6 +1,7 @@
 #include "volume_ris/gpu_renderer.h"
 
 #include "tyndall/core/error.h"
+#include "tyndall/core/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
 
 #include <algorithm>
@@ -19,7 +20,7 @@ using Push = GpuAccumulation::Slice;
 static_assert(sizeof(Push) == 6 * sizeof(std::uint32_t));
 
 std::string shaderPath() {
-    return std::string(TYNDALL_SHADER_DIR) + "/volume_ris/volume_ris.comp.glsl";
+    return shaderDirectory().string() + "/volume_ris/volume_ris.comp.glsl";
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "wvds/gpu_renderer.h"
 
 #include "tyndall/core/error.h"
+#include "tyndall/core/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
 
 #include <algorithm>
@@ -21,7 +22,7 @@ struct Push {
 };
 
 std::string shaderPath() {
-    return std::string(TYNDALL_SHADER_DIR) + "/wvds/wvds.comp.glsl";
+    return shaderDirectory().string() + "/wvds/wvds.comp.glsl";
 }
 
 }  // namespace

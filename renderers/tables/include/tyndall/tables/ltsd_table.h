@@ -157,8 +157,8 @@ void saveLtsdTable(const LtsdTable& table, const std::filesystem::path& file);
 // The checksum stored in a table file: FNV-1a (64 bit) of the whole file with the checksum field zeroed.
 std::uint64_t ltsdTableChecksum(const std::vector<std::uint8_t>& fileBytes);
 
-// Where tables are found: `overrideDir` if not empty, else $TYNDALL_TABLES_DIR, else <executable>/../share/tyndall/
-// tables (the installed layout), else the source tree's tables/ (a build-tree run).
+// Where tables are found: `overrideDir` if not empty, else $TYNDALL_TABLES_DIR, else resourceRoot() / "tables"
+// (tyndall/core/resources.h: $TYNDALL_ROOT, the installed or bundled layout, or the source tree).
 std::filesystem::path ltsdTablesDirectory(const std::string& overrideDir = "");
 
 // The table file for a phase type, e.g. "hg" -> <dir>/hg.ltsd.
