@@ -340,6 +340,80 @@ TEST(Cli, DataFilesComeFromTyndallRoot) {
     EXPECT_FALSE(fs::exists(none));
 }
 
+// Shards (issue 36): two 8-spp shards of the default project's reference, merged, against a 16-spp render with another
+// seed. The sum of their squared differences over all pixels and channels must be what the two variance channels
+// predict (a z-test over 1296 values; a merge that dropped a shard's variance, or mis-weighted the means, leaves the
+// bounds). Bad shards and
+// bad --shard values are refused.
+TEST(Cli, ShardsMergeIntoOneRenderWithinItsVariance) {
+    const fs::path dir = scratch("shards");
+    const std::string project = source("projects/default.json");
+    const std::string common = "render '" + project + "' --reference --size 24x18 --spp 16 ";
+    for (int i = 0; i < 2; ++i) {
+        const CliRun r = tyndall(common + "--shard " + std::to_string(i) + "/2 -o '" +
+                                 (dir / ("shard" + std::to_string(i) + ".exr")).string() + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+    }
+    const CliRun whole = tyndall(common + "--seed 99 -o '" + (dir / "whole.exr").string() + "'");
+    ASSERT_EQ(whole.exitCode, 0) << whole.output;
+    const std::string shards = "'" + (dir / "shard0.exr").string() + "' '" + (dir / "shard1.exr").string() + "'";
+    const CliRun merge = tyndall("merge " + shards + " -o '" + (dir / "merged.exr").string() + "'");
+    ASSERT_EQ(merge.exitCode, 0) << merge.output;
+
+    const tyndall::Image shard0 = tyndall::readImage((dir / "shard0.exr").string());
+    const tyndall::Image shard1 = tyndall::readImage((dir / "shard1.exr").string());
+    EXPECT_EQ(shard0.metadata.at("spp"), "8");
+    EXPECT_EQ(shard0.metadata.at("shard"), "0/2");
+    EXPECT_NE(shard0.metadata.at("seed"), shard1.metadata.at("seed"));
+    const tyndall::Image merged = tyndall::readImage((dir / "merged.exr").string());
+    const tyndall::Image single = tyndall::readImage((dir / "whole.exr").string());
+    EXPECT_EQ(merged.metadata.at("spp"), "16");
+    EXPECT_EQ(merged.metadata.at("shards"), "0/2,1/2");
+    EXPECT_EQ(merged.metadata.at("projectHash"), single.metadata.at("projectHash"));
+    // Averaged before dividing: each pixel's variance estimate has few degrees of freedom, so the mean of per-pixel
+    // ratios d^2 / v would be biased high (E[1 / v] > 1 / E[v]); the ratio of the means is not.
+    double squared = 0.0, predicted = 0.0;
+    int values = 0;
+    for (const char* c : {"R", "G", "B"}) {
+        const int m = merged.channelIndex(c), v = merged.channelIndex(std::string("variance.") + c);
+        ASSERT_GE(v, 0);
+        for (int y = 0; y < merged.height(); ++y)
+            for (int x = 0; x < merged.width(); ++x) {
+                const double d = double(merged.at(x, y, m)) - double(single.at(x, y, m));
+                squared += d * d;
+                predicted += double(merged.at(x, y, v)) + double(single.at(x, y, v));
+                ++values;
+            }
+    }
+    const double ratio = squared / predicted;
+    std::printf("merged shards against one render: sum of squared differences / predicted %.3f over %d values\n", ratio,
+                values);
+    EXPECT_GT(ratio, 0.6);
+    EXPECT_LT(ratio, 1.6);
+
+    // A shard twice, a shard of another size, a PNG: exit 2 naming the file; no output.
+    const std::string out = (dir / "bad.exr").string();
+    const CliRun twice = tyndall("merge " + shards + " '" + (dir / "shard0.exr").string() + "' -o '" + out + "'");
+    EXPECT_EQ(twice.exitCode, 2) << twice.output;
+    EXPECT_NE(twice.output.find("not independent"), std::string::npos) << twice.output;
+    ASSERT_EQ(tyndall("render '" + project + "' --reference --size 12x9 --spp 8 --shard 1/2 -o '" +
+                      (dir / "small.exr").string() + "'")
+                  .exitCode,
+              0);
+    const CliRun size = tyndall("merge " + shards + " '" + (dir / "small.exr").string() + "' -o '" + out + "'");
+    EXPECT_EQ(size.exitCode, 2) << size.output;
+    EXPECT_NE(size.output.find("small.exr"), std::string::npos) << size.output;
+    EXPECT_FALSE(fs::exists(out));
+    for (const std::string bad : {"2/2", "1", "a/b", "0/0"}) {
+        const CliRun r = tyndall(common + "--shard " + bad + " -o '" + out + "'");
+        EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;
+        EXPECT_NE(r.output.find("--shard"), std::string::npos) << r.output;
+    }
+    const CliRun timed = tyndall(common + "--time 1 --shard 0/2 -o '" + out + "'");
+    EXPECT_EQ(timed.exitCode, 2) << timed.output;
+    EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Cli, RendersTheWvdsExampleAndWritesItsDistanceProbe) {
     fs::path dir = scratch("wvds");
     const std::string project = source("projects/examples/wvds-box.json");

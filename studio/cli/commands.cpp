@@ -7,6 +7,7 @@
 #include "tyndall/core/text.h"
 #include "tyndall/gpu/context.h"
 #include "tyndall/image/image_io.h"
+#include "tyndall/image/merge.h"
 #include "tyndall/image/metrics.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
@@ -136,6 +137,71 @@ void warnLeftOut(const RenderJob& job, const std::string& prefix) {
 
 }  // namespace
 
+std::uint64_t shardSeed(std::uint64_t seed, int shard) {
+    if (shard == 0) return seed;
+    // SplitMix64's finaliser of the seed offset by the shard's multiple of the golden ratio.
+    std::uint64_t z = seed + 0x9e3779b97f4a7c15ull * std::uint64_t(shard);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+namespace {
+
+// --shard I/N: the job renders the I-th of N equal shares of its samples per pixel (the first S mod N shares one more)
+// with shardSeed's seed, and says so in its metadata.
+void applyShard(RenderJob& job, const std::string& text, bool timeBound) {
+    const auto bad = [&](const std::string& why) {
+        return InputError(InputLocation{"", 0, 0, "--shard"}, why + ", got '" + text + "'");
+    };
+    const std::size_t slash = text.find('/');
+    int index = -1, count = 0;
+    try {
+        std::size_t used = 0;
+        if (slash == std::string::npos) throw bad("must be I/N");
+        index = std::stoi(text.substr(0, slash), &used);
+        if (used != slash) throw bad("must be I/N");
+        count = std::stoi(text.substr(slash + 1), &used);
+        if (used != text.size() - slash - 1) throw bad("must be I/N");
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception&) {
+        throw bad("must be I/N with whole numbers");
+    }
+    if (count < 1 || index < 0 || index >= count) throw bad("must be I/N with 0 <= I < N");
+    if (timeBound) throw bad("shards share a sample count; leave --time out");
+    const int total = job.request.spp;
+    if (total <= 0 || total >= RenderRequest::kUnboundedSpp) throw bad("needs a sample count to share (--spp)");
+    const int share = total / count + (index < total % count ? 1 : 0);
+    if (share < 1)
+        throw bad("leaves shard " + std::to_string(index) + " without samples (" + std::to_string(total) + " spp in " +
+                  std::to_string(count) + " shards)");
+    job.request.spp = share;
+    job.metadata["shard"] = std::to_string(index) + "/" + std::to_string(count);
+    job.metadata["shardBaseSeed"] = std::to_string(job.request.seed);
+    job.request.seed = shardSeed(job.request.seed, index);
+}
+
+}  // namespace
+
+int merge(const MergeArgs& args) {
+    return guarded([&] {
+        if (std::filesystem::path(args.out).extension() != ".exr")
+            throw InputError(InputLocation{args.out, 0, 0, "--out"}, "the merged image must be an .exr");
+        checkOutputPath(args.out);
+        std::vector<Image> images;
+        for (const std::string& path : args.images)
+            images.push_back(readLinearExr(path, "images"));
+        const Image merged = mergeRenders(images, args.images);
+        OutputSet files;
+        files.stage(args.out, encodeImage(merged, args.out));
+        files.commit();
+        std::printf("wrote %s (%d x %d, %s spp from %zu shards)\n", args.out.c_str(), merged.width(), merged.height(),
+                    merged.metadata.at("spp").c_str(), images.size());
+        return int(kOk);
+    });
+}
+
 int render(const RenderArgs& args) {
     return guarded([&] {
         std::vector<std::string> sets = args.sets;
@@ -163,6 +229,7 @@ int render(const RenderArgs& args) {
         options.threads = args.threads;
         RenderJob job = args.reference ? makeReferenceJob(project, args.project, args.view, options)
                                        : makeViewJob(project, args.project, args.view, options);
+        if (!args.shard.empty()) applyShard(job, args.shard, args.time.has_value());
         warnLeftOut(job, "tyndall: ");
 
         std::signal(SIGINT, onInterrupt);

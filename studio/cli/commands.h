@@ -27,8 +27,19 @@ struct RenderArgs {
     std::vector<std::string> outs;  // .exr and/or .png
     std::optional<double> exposure; // PNG exposure; default: the view's
     std::string tonemap = "srgb";   // PNG display transform (tonemap.h)
+    std::string shard;              // "I/N": the I-th of N equal shares of the samples, with its own seed
 };
 int render(const RenderArgs& args);
+
+// The seed of shard I of a render whose seed is `seed`: shard 0 keeps it (a one-shard render is the plain one), the
+// others are decorrelated by a hash of (seed, I).
+std::uint64_t shardSeed(std::uint64_t seed, int shard);
+
+struct MergeArgs {
+    std::vector<std::string> images;  // the shards (.exr)
+    std::string out;                  // .exr
+};
+int merge(const MergeArgs& args);
 
 struct ValidateArgs {
     std::vector<std::string> projects;

@@ -62,6 +62,19 @@ int main(int argc, char** argv) {
                           "display transform of PNG output, after the exposure: srgb (clamped, the default), reinhard, "
                           "aces, falsecolour (log2 luminance in viridis, -10 to +2 EV)");
 
+    renderCmd->add_option(
+        "--shard", render.shard,
+        "I/N: render the I-th (from 0) of N equal shares of the samples per pixel, with a seed derived "
+        "from the render's and I; merge the shards with tyndall merge");
+
+    MergeArgs mergeArgs;
+    CLI::App* mergeCmd = app.add_subcommand(
+        "merge",
+        "merge shards of one render (tyndall render --shard I/N) into one image: spp-weighted means, pooled "
+        "variance, summed times");
+    mergeCmd->add_option("images", mergeArgs.images, "the shards (.exr)")->required();
+    mergeCmd->add_option("--out,-o", mergeArgs.out, "the merged image (.exr)")->required();
+
     ValidateArgs validate;
     CLI::App* validateCmd = app.add_subcommand("validate", "check project files; each problem names the file, the field and what is allowed");
     validateCmd->add_option("projects", validate.projects, "project files")->required();
@@ -139,6 +152,7 @@ int main(int argc, char** argv) {
     }
     if (renderCmd->parsed()) return tyndall::cli::render(render);
     if (validateCmd->parsed()) return tyndall::cli::validate(validate);
+    if (mergeCmd->parsed()) return tyndall::cli::merge(mergeArgs);
     if (compareCmd->parsed()) return tyndall::cli::compare(compare);
     if (probeCmd->parsed()) return tyndall::cli::probe(probe);
     if (infoCmd->parsed()) return tyndall::cli::info(info);
