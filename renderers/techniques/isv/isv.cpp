@@ -143,8 +143,8 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
     if (onGpu) {
         // What the device cannot hold or do for any light (its buffer and image limits, dual-source blending for
         // coloured shadows): an error under device = gpu, the CPU model under auto.
-        for (int light = 0; light < lights && onGpu; ++light) {
-            isv::lightScene(scene, request.scene, settings, light);
+        for (int pass = 0; pass < passes && onGpu; ++pass) {
+            isv::lightScene(scene, request.scene, settings, lights == 0 ? -1 : pass);
             if (const std::optional<InputError> problem =
                     isv::deviceLimitProblem(scene, gpu::sharedContext()->device())) {
                 if (settings.device == Device::Gpu) throw *problem;

@@ -991,6 +991,30 @@ TEST(IsvLimits, WhatTheDeviceCannotHoldIsRefusedNamingTheField) {
     EXPECT_EQ(fieldOf(small, c), "vsmResolution");
 }
 
+// The device's limits are checked for every light's pass, and for a view without a light too (its one pass lights
+// nothing but still allocates): a rendering resolution beyond the device's images is refused under device = gpu,
+// naming the field, and under auto the view falls back to the CPU model, with no light as with two.
+TEST_F(IsvGpu, EveryPassIsCheckedAgainstTheDevice) {
+    const std::uint32_t side = gpu::sharedContext()->device().maxImageDimension2D;
+    for (int lights : {0, 2}) {
+        Scene scene = cloudScene(10, false, int(side / 8 + 8), 2);  // the sun
+        if (lights == 0)
+            scene.directionalLights.clear();
+        else
+            scene.pointLights = spotScene(scene).pointLights;  // the sun and the spot
+        try {
+            renderIsv(scene, {{"device", std::string("gpu")}, {"supersampling", std::int64_t(8)}});
+            ADD_FAILURE() << lights << " lights: a rendering resolution beyond the device must be refused";
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.where().field, "supersampling") << e.what();
+        }
+        const RenderResult r = renderIsv(scene, {{"device", std::string("auto")}, {"supersampling", std::int64_t(8)}});
+        EXPECT_EQ(r.image.metadata.at("device"), "cpu") << lights << " lights";
+        ASSERT_EQ(r.image.metadata.count("isv:fallback"), 1u) << lights << " lights";
+        EXPECT_EQ(r.image.metadata.at("isv:fallback").rfind("supersampling", 0), 0u) << lights << " lights";
+    }
+}
+
 // Where both producers can run, they draw the same proxies: the same chords, and the same image in both passes (the
 // volumetric shadow map's slabs and the camera's sorted particles, whose order blending depends on).
 TEST_F(IsvGpu, MeshAndGeometryProducersAgree) {
