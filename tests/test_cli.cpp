@@ -18,6 +18,7 @@
 #include <iterator>
 #include <memory>
 #include <numbers>
+#include <tuple>
 
 namespace fs = std::filesystem;
 
@@ -412,6 +413,54 @@ TEST(Cli, ShardsMergeIntoOneRenderWithinItsVariance) {
     const CliRun timed = tyndall(common + "--time 1 --shard 0/2 -o '" + out + "'");
     EXPECT_EQ(timed.exitCode, 2) << timed.output;
     EXPECT_FALSE(fs::exists(out));
+}
+
+// FLIP in compare (issue 35): on a clear-cut case, renders of the default project's reference at 1 and 16 spp against
+// one of 128 spp, FLIP orders them as relMSE does; the error map is written with values in [0, 1]; images of another
+// size, or an unknown metric, exit 2 naming the file or the option.
+TEST(Cli, CompareReportsFlipInTheOrderOfRelMse) {
+    const fs::path dir = scratch("flip");
+    const std::string project = source("projects/default.json");
+    for (const auto& [name, spp, seed] :
+         {std::tuple{"ref", 128, 1}, std::tuple{"spp1", 1, 2}, std::tuple{"spp16", 16, 3}}) {
+        const CliRun r =
+            tyndall("render '" + project + "' --reference --size 32x24 --spp " + std::to_string(spp) + " --seed " +
+                    std::to_string(seed) + " -o '" + (dir / (std::string(name) + ".exr")).string() + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+    }
+    const std::string images = "'" + (dir / "spp1.exr").string() + "' '" + (dir / "spp16.exr").string() + "'";
+    const std::string ref = " -r '" + (dir / "ref.exr").string() + "'";
+    const CliRun run = tyndall("compare " + images + ref + " --metric flip --json '" + (dir / "m.json").string() +
+                               "' --flip-map '" + (dir / "{name}-flip.exr").string() + "'");
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_NE(run.output.find("FLIP mean"), std::string::npos) << run.output;
+    const nlohmann::json m = nlohmann::json::parse(std::ifstream(dir / "m.json"));
+    const double flip1 = m["images"][0]["flip"]["mean"], flip16 = m["images"][1]["flip"]["mean"];
+    const double rel1 = m["images"][0]["relMSE"], rel16 = m["images"][1]["relMSE"];
+    std::printf("1 spp: FLIP %.4f relMSE %.3g; 16 spp: FLIP %.4f relMSE %.3g\n", flip1, rel1, flip16, rel16);
+    EXPECT_GT(rel1, rel16);
+    EXPECT_GT(flip1, flip16);
+    EXPECT_GT(flip16, 0.0);
+    EXPECT_GE(int(m["images"][0]["flip"]["exposures"]), 2);
+    const tyndall::Image map = tyndall::readImage((dir / "spp1-flip.exr").string());
+    ASSERT_EQ(map.channelIndex("FLIP"), 0);
+    for (int y = 0; y < map.height(); ++y)
+        for (int x = 0; x < map.width(); ++x) {
+            ASSERT_GE(map.at(x, y, 0), 0.0f);
+            ASSERT_LE(map.at(x, y, 0), 1.0f);
+        }
+
+    ASSERT_EQ(
+        tyndall("render '" + project + "' --reference --size 16x12 --spp 1 -o '" + (dir / "small.exr").string() + "'")
+            .exitCode,
+        0);
+    const CliRun size = tyndall("compare '" + (dir / "small.exr").string() + "'" + ref + " --metric flip");
+    EXPECT_EQ(size.exitCode, 2) << size.output;
+    EXPECT_NE(size.output.find("small.exr"), std::string::npos) << size.output;
+    EXPECT_NE(size.output.find("ref.exr"), std::string::npos) << size.output;
+    const CliRun unknown = tyndall("compare " + images + ref + " --metric ssim");
+    EXPECT_EQ(unknown.exitCode, 2) << unknown.output;
+    EXPECT_NE(unknown.output.find("--metric"), std::string::npos) << unknown.output;
 }
 
 TEST(Cli, RendersTheWvdsExampleAndWritesItsDistanceProbe) {

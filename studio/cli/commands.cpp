@@ -6,6 +6,7 @@
 #include "tyndall/core/output.h"
 #include "tyndall/core/text.h"
 #include "tyndall/gpu/context.h"
+#include "tyndall/image/flip.h"
 #include "tyndall/image/image_io.h"
 #include "tyndall/image/merge.h"
 #include "tyndall/image/metrics.h"
@@ -360,6 +361,33 @@ int compare(const CompareArgs& args) {
         if (!args.json.empty()) checkTextOutputPath(args.json, "--json");
         if (!args.diff.empty() && args.images.size() > 1 && args.diff.find("{name}") == std::string::npos)
             throw InputError(InputLocation{"", 0, 0, "--diff"}, "with several images the path must contain {name}");
+        bool flip = false;
+        for (const std::string& metric : args.metrics) {
+            if (metric != "flip")
+                throw InputError(InputLocation{"", 0, 0, "--metric"},
+                                 "'" + metric +
+                                     "' is not an extra metric; the one there is: flip (RMSE, relMSE, MAPE, "
+                                     "PSNR and the energy bias are always computed)");
+            flip = true;
+        }
+        if (!args.flipMap.empty()) {
+            if (!flip) throw InputError(InputLocation{"", 0, 0, "--flip-map"}, "needs --metric flip");
+            if (std::filesystem::path(args.flipMap).extension() != ".exr")
+                throw InputError(InputLocation{"", 0, 0, "--flip-map"}, "must name an .exr file");
+            if (args.images.size() > 1 && args.flipMap.find("{name}") == std::string::npos)
+                throw InputError(InputLocation{"", 0, 0, "--flip-map"},
+                                 "with several images the path must contain {name}");
+            checkOutputPath(args.flipMap);
+        }
+        if (!(args.pixelsPerDegree >= 0.0))
+            throw InputError(InputLocation{"", 0, 0, "--ppd"}, "must be a positive number of pixels per degree");
+        HdrFlipSettings flipSettings;
+        if (args.pixelsPerDegree > 0.0) flipSettings.pixelsPerDegree = args.pixelsPerDegree;
+        try {
+            flipSettings.toneMapper = flipToneMapperFromName(args.toneMapper);
+        } catch (const InputError& e) {
+            throw InputError(InputLocation{"", 0, 0, "--tone-mapper"}, e.message());
+        }
 
         // Every input is read (and checked) before anything is computed or written.
         const Image reference = readLinearExr(args.reference, "--reference");
@@ -405,6 +433,55 @@ int compare(const CompareArgs& args) {
             entry["image"] = path;
             json["images"].push_back(entry);
             csv += metricsCsvRow(name, m) + "\n";
+            if (flip) {
+                const HdrFlipResult r = hdrFlip(reference, image, flipSettings);
+                // The statistics over the region (the whole image by default), as the other metrics.
+                const int rx = region.width > 0 ? region.x : 0, ry = region.height > 0 ? region.y : 0;
+                const int rw = region.width > 0 ? region.width : image.width();
+                const int rh = region.height > 0 ? region.height : image.height();
+                std::vector<float> errors;
+                for (int y = ry; y < ry + rh; ++y)
+                    for (int x = rx; x < rx + rw; ++x)
+                        errors.push_back(r.error[std::size_t(y) * image.width() + x]);
+                const FlipStatistics s = flipStatistics(errors);
+                std::printf(
+                    "%-32s FLIP mean %s, weighted median %s, weighted quartiles %s and %s, max %s (HDR-FLIP, "
+                    "%s, %s ppd, exposures %s to %s in %d)\n",
+                    "", formatShort(s.mean).c_str(), formatShort(s.weightedMedian).c_str(),
+                    formatShort(s.weightedFirstQuartile).c_str(), formatShort(s.weightedThirdQuartile).c_str(),
+                    formatShort(s.maximum).c_str(), args.toneMapper.c_str(),
+                    formatShort(flipSettings.pixelsPerDegree).c_str(), formatShort(r.startExposure).c_str(),
+                    formatShort(r.stopExposure).c_str(), r.exposures);
+                json["images"].back()["flip"] = {{"mean", s.mean},
+                                                 {"weightedMedian", s.weightedMedian},
+                                                 {"weightedFirstQuartile", s.weightedFirstQuartile},
+                                                 {"weightedThirdQuartile", s.weightedThirdQuartile},
+                                                 {"minimum", s.minimum},
+                                                 {"maximum", s.maximum},
+                                                 {"pixelsPerDegree", flipSettings.pixelsPerDegree},
+                                                 {"toneMapper", args.toneMapper},
+                                                 {"startExposure", r.startExposure},
+                                                 {"stopExposure", r.stopExposure},
+                                                 {"exposures", r.exposures}};
+                if (!args.flipMap.empty()) {
+                    std::string out = args.flipMap;
+                    if (auto pos = out.find("{name}"); pos != std::string::npos) out.replace(pos, 6, name);
+                    checkOutputPath(out);
+                    Image map(image.width(), image.height(), {"FLIP", "exposure"});
+                    for (int y = 0; y < image.height(); ++y)
+                        for (int x = 0; x < image.width(); ++x) {
+                            const std::size_t k = std::size_t(y) * image.width() + x;
+                            map.at(x, y, 0) = r.error[k];
+                            map.at(x, y, 1) =
+                                float(r.startExposure + (r.stopExposure - r.startExposure) * r.exposureIndex[k] /
+                                                            std::max(r.exposures - 1, 1));
+                        }
+                    map.metadata["flip:mean"] = formatShort(s.mean);
+                    map.metadata["flip:toneMapper"] = args.toneMapper;
+                    map.metadata["flip:pixelsPerDegree"] = formatShort(flipSettings.pixelsPerDegree);
+                    files.stage(out, encodeImage(map, out));
+                }
+            }
             if (!args.diff.empty()) {
                 std::string out = args.diff;
                 if (auto pos = out.find("{name}"); pos != std::string::npos) out.replace(pos, 6, name);

@@ -56,6 +56,11 @@ struct CompareArgs {
     std::string diff;                // difference image (.png or .exr); with several images, "{name}" is replaced
     std::string diffKind = "signed";
     double diffScale = 0.0;          // 0: 10 % of the reference's mean luminance... see compare()
+    std::vector<std::string>
+        metrics;                      // extra metrics beyond the standard ones: "flip" (HDR-FLIP, tyndall/image/flip.h)
+    std::string flipMap;              // FLIP error map per image (.exr: channels FLIP and exposure); "{name}" as --diff
+    double pixelsPerDegree = 0.0;     // FLIP's observer (0: 67.02, a 0.7 m wide 4K monitor at 0.7 m)
+    std::string toneMapper = "aces";  // HDR-FLIP's tone mapper: aces, hable, reinhard
 };
 int compare(const CompareArgs& args);
 

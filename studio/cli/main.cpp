@@ -91,6 +91,17 @@ int main(int argc, char** argv) {
     compareCmd->add_option("--csv", compare.csv, "write the metrics as CSV");
     compareCmd->add_option("--diff", compare.diff, "write a false-colour difference image ({name} is replaced by each image's name)");
     compareCmd->add_option("--diff-kind", compare.diffKind, "signed, absolute or relative");
+    compareCmd->add_option("--metric", compare.metrics,
+                           "an extra metric: flip (HDR-FLIP: mean, weighted median and quartiles of its error map)");
+    compareCmd->add_option("--flip-map", compare.flipMap,
+                           "with --metric flip: write each image's FLIP error map as .exr (channels FLIP, exposure; "
+                           "{name} is replaced by each image's name)");
+    compareCmd
+        ->add_option("--ppd", compare.pixelsPerDegree,
+                     "FLIP's observer in pixels per degree (default 67.02: a 0.7 m wide 4K monitor at 0.7 m)")
+        ->check(kFinite);
+    compareCmd->add_option("--tone-mapper", compare.toneMapper,
+                           "HDR-FLIP's tone mapper: aces (default), hable, reinhard");
     compareCmd->add_option("--diff-scale", compare.diffScale, "difference at the ends of the colour map (default: 10% of the reference's mean luminance)")
         ->check(kFinite);
 
