@@ -430,8 +430,9 @@ TEST(Cli, CompareReportsFlipInTheOrderOfRelMse) {
     }
     const std::string images = "'" + (dir / "spp1.exr").string() + "' '" + (dir / "spp16.exr").string() + "'";
     const std::string ref = " -r '" + (dir / "ref.exr").string() + "'";
-    const CliRun run = tyndall("compare " + images + ref + " --metric flip --json '" + (dir / "m.json").string() +
-                               "' --flip-map '" + (dir / "{name}-flip.exr").string() + "'");
+    const CliRun run =
+        tyndall("compare " + images + ref + " --metric flip --json '" + (dir / "m.json").string() + "' --flip-map '" +
+                (dir / "{name}-flip.exr").string() + "' --flip-histogram '" + (dir / "{name}-flip.csv").string() + "'");
     ASSERT_EQ(run.exitCode, 0) << run.output;
     EXPECT_NE(run.output.find("FLIP mean"), std::string::npos) << run.output;
     const nlohmann::json m = nlohmann::json::parse(std::ifstream(dir / "m.json"));
@@ -454,6 +455,29 @@ TEST(Cli, CompareReportsFlipInTheOrderOfRelMse) {
         tyndall("render '" + project + "' --reference --size 16x12 --spp 1 -o '" + (dir / "small.exr").string() + "'")
             .exitCode,
         0);
+    // The histogram: 100 bins whose pixels are the image's and whose weighted shares sum to 1.
+    std::ifstream csv(dir / "spp1-flip.csv");
+    std::string line;
+    std::getline(csv, line);
+    EXPECT_EQ(line, "low,high,pixels,weightedShare");
+    long pixels = 0;
+    double share = 0.0;
+    int bins = 0;
+    while (std::getline(csv, line)) {
+        std::istringstream fields(line);
+        std::string low, high, count, weighted;
+        std::getline(fields, low, ',');
+        std::getline(fields, high, ',');
+        std::getline(fields, count, ',');
+        std::getline(fields, weighted, ',');
+        pixels += std::stol(count);
+        share += std::stod(weighted);
+        ++bins;
+    }
+    EXPECT_EQ(bins, 100);
+    EXPECT_EQ(pixels, 32 * 24);
+    EXPECT_NEAR(share, 1.0, 1e-9);
+
     const CliRun size = tyndall("compare '" + (dir / "small.exr").string() + "'" + ref + " --metric flip");
     EXPECT_EQ(size.exitCode, 2) << size.output;
     EXPECT_NE(size.output.find("small.exr"), std::string::npos) << size.output;

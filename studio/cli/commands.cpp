@@ -379,6 +379,13 @@ int compare(const CompareArgs& args) {
                                  "with several images the path must contain {name}");
             checkOutputPath(args.flipMap);
         }
+        if (!args.flipHistogram.empty()) {
+            if (!flip) throw InputError(InputLocation{"", 0, 0, "--flip-histogram"}, "needs --metric flip");
+            if (args.images.size() > 1 && args.flipHistogram.find("{name}") == std::string::npos)
+                throw InputError(InputLocation{"", 0, 0, "--flip-histogram"},
+                                 "with several images the path must contain {name}");
+            checkTextOutputPath(args.flipHistogram, "--flip-histogram");
+        }
         if (!(args.pixelsPerDegree >= 0.0))
             throw InputError(InputLocation{"", 0, 0, "--ppd"}, "must be a positive number of pixels per degree");
         HdrFlipSettings flipSettings;
@@ -463,6 +470,16 @@ int compare(const CompareArgs& args) {
                                                  {"startExposure", r.startExposure},
                                                  {"stopExposure", r.stopExposure},
                                                  {"exposures", r.exposures}};
+                if (!args.flipHistogram.empty()) {
+                    std::string out = args.flipHistogram;
+                    if (auto pos = out.find("{name}"); pos != std::string::npos) out.replace(pos, 6, name);
+                    checkTextOutputPath(out, "--flip-histogram");
+                    std::string text = "low,high,pixels,weightedShare\n";
+                    for (const FlipHistogramBin& b : flipHistogram(errors))
+                        text += formatNumber(b.low) + "," + formatNumber(b.high) + "," + std::to_string(b.pixels) +
+                                "," + formatNumber(b.weightedShare) + "\n";
+                    files.stage(out, text);
+                }
                 if (!args.flipMap.empty()) {
                     std::string out = args.flipMap;
                     if (auto pos = out.find("{name}"); pos != std::string::npos) out.replace(pos, 6, name);

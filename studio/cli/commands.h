@@ -59,6 +59,7 @@ struct CompareArgs {
     std::vector<std::string>
         metrics;                      // extra metrics beyond the standard ones: "flip" (HDR-FLIP, tyndall/image/flip.h)
     std::string flipMap;              // FLIP error map per image (.exr: channels FLIP and exposure); "{name}" as --diff
+    std::string flipHistogram;        // FLIP's weighted histogram per image (.csv, 100 bins); "{name}" as --diff
     double pixelsPerDegree = 0.0;     // FLIP's observer (0: 67.02, a 0.7 m wide 4K monitor at 0.7 m)
     std::string toneMapper = "aces";  // HDR-FLIP's tone mapper: aces, hable, reinhard
 };

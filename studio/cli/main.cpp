@@ -96,6 +96,10 @@ int main(int argc, char** argv) {
     compareCmd->add_option("--flip-map", compare.flipMap,
                            "with --metric flip: write each image's FLIP error map as .exr (channels FLIP, exposure; "
                            "{name} is replaced by each image's name)");
+    compareCmd->add_option(
+        "--flip-histogram", compare.flipHistogram,
+        "with --metric flip: write each image's weighted FLIP histogram as .csv (100 bins: low, high, "
+        "pixels, weightedShare; {name} is replaced by each image's name)");
     compareCmd
         ->add_option("--ppd", compare.pixelsPerDegree,
                      "FLIP's observer in pixels per degree (default 67.02: a 0.7 m wide 4K monitor at 0.7 m)")

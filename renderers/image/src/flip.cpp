@@ -420,6 +420,26 @@ HdrFlipResult hdrFlip(const Image& reference, const Image& test, const HdrFlipSe
     return result;
 }
 
+std::vector<FlipHistogramBin> flipHistogram(const std::vector<float>& error, int bins) {
+    TY_CHECK(bins >= 1, "flipHistogram: at least one bin");
+    std::vector<FlipHistogramBin> out(static_cast<std::size_t>(bins));
+    double total = 0.0;
+    for (int b = 0; b < bins; ++b) {
+        out[std::size_t(b)].low = double(b) / bins;
+        out[std::size_t(b)].high = double(b + 1) / bins;
+    }
+    for (float e : error) {
+        const int b = std::clamp(int(double(e) * bins), 0, bins - 1);
+        ++out[std::size_t(b)].pixels;
+        out[std::size_t(b)].weightedShare += e;
+        total += e;
+    }
+    if (total > 0.0)
+        for (FlipHistogramBin& b : out)
+            b.weightedShare /= total;
+    return out;
+}
+
 FlipStatistics flipStatistics(const std::vector<float>& error) {
     FlipStatistics s;
     if (error.empty()) return s;

@@ -145,5 +145,18 @@ TEST(Flip, WeightedStatistics) {
     EXPECT_FLOAT_EQ(float(s.maximum), 0.4f);
 }
 
+TEST(Flip, WeightedHistogram) {
+    // 0.05 and 0.15 twice and 1.0 (in the last, closed bin) over 10 bins: counts 1, 2, ..., 1; shares by error.
+    const std::vector<FlipHistogramBin> h = flipHistogram({0.05f, 0.15f, 0.15f, 1.0f}, 10);
+    ASSERT_EQ(h.size(), 10u);
+    EXPECT_EQ(h[0].pixels, 1);
+    EXPECT_EQ(h[1].pixels, 2);
+    EXPECT_EQ(h[9].pixels, 1);
+    EXPECT_NEAR(h[0].weightedShare, 0.05 / 1.35, 1e-7);
+    EXPECT_NEAR(h[1].weightedShare, 0.30 / 1.35, 1e-7);
+    EXPECT_NEAR(h[9].weightedShare, 1.0 / 1.35, 1e-7);
+    EXPECT_DOUBLE_EQ(h[9].high, 1.0);
+}
+
 }  // namespace
 }  // namespace tyndall

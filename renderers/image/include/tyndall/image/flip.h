@@ -59,4 +59,13 @@ struct FlipStatistics {
 };
 FlipStatistics flipStatistics(const std::vector<float>& error);
 
+// The histogram FLIP's reports plot: `bins` equal bins over [0, 1] (the last one closed), each with its pixel count and
+// its share of the summed error (the pixels weighted by their error; the shares sum to 1 unless every error is 0).
+struct FlipHistogramBin {
+    double low = 0.0, high = 0.0;
+    long pixels = 0;
+    double weightedShare = 0.0;
+};
+std::vector<FlipHistogramBin> flipHistogram(const std::vector<float>& error, int bins = 100);
+
 }  // namespace tyndall
