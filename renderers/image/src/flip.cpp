@@ -284,7 +284,10 @@ std::vector<float> ldrFlipOf(const std::vector<Rgb3>& reference, const std::vect
         const double feature = std::pow(
             std::max(std::abs(refEdges[i] - testEdges[i]), std::abs(refPoints[i] - testPoints[i])) / std::sqrt(2.0),
             qf);
-        error[i] = float(std::pow(colour[i], 1.0 - feature));
+        // The magnitudes' difference is at most sqrt(2) (each normalised detector answers at most 1 per axis), so the
+        // feature term is at most 1; rounding may pass it, and colour^(negative) would leave [0, 1] (or be infinite at
+        // 0).
+        error[i] = float(std::pow(colour[i], std::max(0.0, 1.0 - feature)));
     }
     return error;
 }
@@ -429,7 +432,8 @@ std::vector<FlipHistogramBin> flipHistogram(const std::vector<float>& error, int
         out[std::size_t(b)].high = double(b + 1) / bins;
     }
     for (float e : error) {
-        const int b = std::clamp(int(double(e) * bins), 0, bins - 1);
+        const double v = e >= 0.0f ? std::min(double(e), 1.0) : 0.0;  // a NaN counts in the first bin
+        const int b = std::min(int(v * bins), bins - 1);
         ++out[std::size_t(b)].pixels;
         out[std::size_t(b)].weightedShare += e;
         total += e;
