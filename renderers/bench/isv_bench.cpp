@@ -27,7 +27,7 @@ using namespace tyndall;
 
 namespace {
 
-const std::string kProject = (tyndall::resourceRoot() / "projects").string() + "/isv/smoke.json";
+const std::string kProject = (tyndall::resourceRoot() / "projects/isv/smoke.json").string();
 
 RenderJob frameJob(std::vector<std::string> parameters, int count = 5000, const std::string& device = "gpu") {
     std::vector<std::string> overrides = {"camera.width=512", "camera.height=512",

@@ -22,6 +22,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,7 @@ using namespace tyndall;
 
 namespace {
 
-const std::string kProject = (tyndall::resourceRoot() / "projects").string() + "/examples/ltsd-room.json";
+const std::string kProject = (tyndall::resourceRoot() / "projects/examples/ltsd-room.json").string();
 
 RenderJob frameJob(int nodes, int lights, const std::string& device, const std::string& transmittance = "min-distance",
                    const std::string& shadows = "off", const std::string& sMethod = "accurate") {
@@ -53,6 +54,25 @@ RenderJob frameJob(int nodes, int lights, const std::string& device, const std::
     }
     const Project project = loadProject(techniqueCatalogue(), kProject, overrides);
     return makeViewJob(project, kProject, "ltsd", {});
+}
+
+// Two variants of a frame measured alternately (the machine's speed drifts), each run once first untimed (pipeline
+// compilation): `timed` (ms) is the iteration time, and the counters `timedName` and `baselineName` hold the means.
+void alternate(benchmark::State& state, const std::function<double()>& timed, const std::function<double()>& baseline,
+               const char* timedName, const char* baselineName) {
+    timed();
+    baseline();
+    double timedMs = 0.0, baselineMs = 0.0;
+    int frames = 0;
+    for (auto _ : state) {
+        baselineMs += baseline();
+        const double t = timed();
+        timedMs += t;
+        ++frames;
+        state.SetIterationTime(t * 1e-3);
+    }
+    state.counters[timedName] = timedMs / frames;
+    state.counters[baselineName] = baselineMs / frames;
 }
 
 void BM_LtsdGpu(benchmark::State& state) {
@@ -112,20 +132,9 @@ void BM_LtsdGpuPrimaryVisibility(benchmark::State& state) {
         // slices read far too low once a kernel has run in the process (0.8 ms for a frame that takes 360 ms).
         return 1e3 * std::stod(r.image.metadata.at("renderTime"));
     };
-    frame(true);  // compiles the pipelines
-    frame(false);
-    double raster = 0.0, traced = 0.0;
-    int frames = 0;
-    for (auto _ : state) {
-        const double t = frame(false), r = frame(true);
-        traced += t;
-        raster += r;
-        ++frames;
-        state.SetIterationTime(r * 1e-3);
-    }
+    alternate(
+        state, [&] { return frame(true); }, [&] { return frame(false); }, "rasterMs", "tracedMs");
     unsetenv("TYNDALL_RASTER_PRIMARY");
-    state.counters["rasterMs"] = raster / frames;
-    state.counters["tracedMs"] = traced / frames;
 }
 BENCHMARK(BM_LtsdGpuPrimaryVisibility)->Arg(0)->Arg(1)->UseManualTime()->Iterations(5)->Unit(benchmark::kMillisecond);
 
@@ -137,19 +146,8 @@ void BM_LtsdSMethod(benchmark::State& state) {
     RenderJob paper = frameJob(8, 1, device, "polygon", "off", "paper");
     RenderJob accurate = frameJob(8, 1, device, "polygon", "off", "accurate");
     const auto frame = [](RenderJob& job) { return 1e3 * std::stod(runJob(job).image.metadata.at("renderTime")); };
-    frame(paper);  // compiles the pipelines
-    frame(accurate);
-    double paperMs = 0.0, accurateMs = 0.0;
-    int frames = 0;
-    for (auto _ : state) {
-        const double p = frame(paper), a = frame(accurate);
-        paperMs += p;
-        accurateMs += a;
-        ++frames;
-        state.SetIterationTime(a * 1e-3);
-    }
-    state.counters["paperMs"] = paperMs / frames;
-    state.counters["accurateMs"] = accurateMs / frames;
+    alternate(
+        state, [&] { return frame(accurate); }, [&] { return frame(paper); }, "accurateMs", "paperMs");
 }
 BENCHMARK(BM_LtsdSMethod)->Arg(0)->Arg(1)->UseManualTime()->Iterations(4)->Unit(benchmark::kMillisecond);
 

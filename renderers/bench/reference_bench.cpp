@@ -27,7 +27,7 @@ const ShadowRays& shadowRays() {
     static ShadowRays rays = [] {
         ShadowRays r;
         Project project =
-            loadProject(techniqueCatalogue(), (tyndall::resourceRoot() / "projects").string() + "/default.json");
+            loadProject(techniqueCatalogue(), (tyndall::resourceRoot() / "projects/default.json").string());
         r.scene = reference::prepareScene(project.scene, (tyndall::resourceRoot() / "projects").string());
         std::mt19937 rng(1);
         std::uniform_real_distribution<float> u(0.0f, 1.0f);

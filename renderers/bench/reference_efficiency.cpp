@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
 
     try {
         for (const char* sceneName : kScenes) {
-            const std::string path = (tyndall::resourceRoot() / "projects").string() + "/bench/" + sceneName + ".json";
+            const std::string path = (tyndall::resourceRoot() / "projects/bench" / (std::string(sceneName) + ".json")).string();
             const Project project =
                 loadProject(techniqueCatalogue(), path,
                             {"camera.width=" + std::to_string(size), "camera.height=" + std::to_string(size)});

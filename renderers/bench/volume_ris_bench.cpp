@@ -20,7 +20,7 @@ using namespace tyndall;
 
 namespace {
 
-const std::string kProject = (tyndall::resourceRoot() / "projects").string() + "/examples/volume-ris-shaft.json";
+const std::string kProject = (tyndall::resourceRoot() / "projects/examples/volume-ris-shaft.json").string();
 
 RenderJob frameJob(int candidates, bool area, const std::string& device) {
     const std::vector<std::string> overrides = {

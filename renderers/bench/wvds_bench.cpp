@@ -22,7 +22,7 @@ using namespace tyndall;
 
 namespace {
 
-const std::string kProject = (tyndall::resourceRoot() / "projects").string() + "/examples/wvds-box.json";
+const std::string kProject = (tyndall::resourceRoot() / "projects/examples/wvds-box.json").string();
 const char* kEstimators[] = {"analytic", "mcwvds", "reds", "rees", "rm", "mcds"};
 
 RenderJob frameJob(const std::string& estimator, const std::string& device, bool meshes = true) {

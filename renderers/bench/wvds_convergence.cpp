@@ -19,7 +19,7 @@
 using namespace tyndall;
 
 namespace {
-const std::string kProject = (tyndall::resourceRoot() / "projects").string() + "/examples/wvds-box.json";
+const std::string kProject = (tyndall::resourceRoot() / "projects/examples/wvds-box.json").string();
 }
 
 int main(int argc, char** argv) {
