@@ -5,6 +5,7 @@
 
 #include "project_internal.h"
 
+#include "tyndall/core/hash.h"
 #include "tyndall/core/output.h"
 
 #include <fcntl.h>
@@ -71,29 +72,20 @@ std::string errnoText(int error) {
     return std::error_code(error, std::generic_category()).message();
 }
 
-std::string readFile(const std::string& path) {
+std::string readFile(const std::string& path, const std::string& what) {
     std::error_code error;
     const auto status = std::filesystem::status(path, error);
     if (std::filesystem::is_directory(status))
-        throw InputError(InputLocation{.file = path}, "is a directory, not a project file");
+        throw InputError(InputLocation{.file = path}, "is a directory, not a " + what);
     if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
-        throw InputError(InputLocation{.file = path}, "is not a regular file (a device, pipe or socket), not a project file");
+        throw InputError(InputLocation{.file = path},
+                         "is not a regular file (a device, pipe or socket), not a " + what);
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(InputLocation{.file = path}, "cannot open the project file: " + errnoText(errno));
+    if (!in) throw InputError(InputLocation{.file = path}, "cannot open the " + what + ": " + errnoText(errno));
     std::ostringstream text;
     text << in.rdbuf();
-    if (in.bad()) throw InputError(InputLocation{.file = path}, "cannot read the project file");
+    if (in.bad()) throw InputError(InputLocation{.file = path}, "cannot read the " + what);
     return text.str();
-}
-
-// FNV-1a, 64 bit.
-std::uint64_t fnv1a(const std::string& bytes) {
-    std::uint64_t hash = 0xCBF29CE484222325ull;
-    for (unsigned char c : bytes) {
-        hash ^= c;
-        hash *= 0x100000001B3ull;
-    }
-    return hash;
 }
 
 }  // namespace
@@ -106,7 +98,11 @@ Project parseProject(const TechniqueCatalogue& techniques, const std::string& te
 }
 
 std::string readProjectText(const std::string& path) {
-    return readFile(path);
+    return readFile(path, "project file");
+}
+
+nlohmann::json readJsonFile(const std::string& path, const std::string& what) {
+    return parseJsonText(readFile(path, what), path);
 }
 
 Project loadProject(const TechniqueCatalogue& techniques, const std::string& path,
@@ -126,9 +122,7 @@ ProjectFile saveProject(const TechniqueCatalogue& techniques, const Project& pro
 }
 
 std::string projectHash(const Project& project) {
-    char hex[17];
-    std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(fnv1a(projectToJson(project).dump())));
-    return hex;
+    return hex16(fnv1a(projectToJson(project).dump()));
 }
 
 ScenePart resolvePart(const TechniqueCatalogue& techniques, const Project& project, const View& view) {

@@ -67,6 +67,10 @@ struct ProjectFile {
 // The text of a project file (InputError naming the path when it cannot be read), as loadProject reads it.
 std::string readProjectText(const std::string& path);
 
+// Another JSON file (`what`: "sweep spec", ...) read and parsed with a project file's checks: an InputError with the
+// line and column of malformed JSON, duplicate keys and runaway nesting refused.
+nlohmann::json readJsonFile(const std::string& path, const std::string& what);
+
 // The text of `edited` as an edit of `original.text`: values equal in original.project and `edited` keep their text
 // (key order, number spelling, omitted defaults, layout); changed values are written over theirs as saveProject writes
 // them, on one line where they were; added keys and elements go after their neighbours in their layout, removed ones
