@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 namespace tyndall::studio {
 
@@ -595,6 +596,75 @@ void LtsdErrorPlot::showFit(const LtsdFit& fit) {
                    .arg(fit.g, 0, 'f', 3)
                    .arg(here.bound, 0, 'e', 2));
     plot_->replot(QCustomPlot::rpQueuedReplot);
+}
+
+DataPlot::DataPlot(const QString& name, QWidget* parent) : Plot(name, parent) {}
+
+void DataPlot::draw(const DataPlotSpec& spec) {
+    plot_->clearGraphs();
+    plot_->clearPlottables();
+    pointsDrawn_ = 0;
+    for (auto [axis, log, label] :
+         {std::tuple{plot_->xAxis, spec.xLog, spec.xLabel}, std::tuple{plot_->yAxis, spec.yLog, spec.yLabel}}) {
+        axis->setLabel(label);
+        axis->setScaleType(log ? QCPAxis::stLogarithmic : QCPAxis::stLinear);
+        if (log) {
+            axis->setTicker(QSharedPointer<QCPAxisTickerLog>(new QCPAxisTickerLog));
+            axis->setNumberFormat("eb");  // 10^-3, not 0.001
+            axis->setNumberPrecision(0);
+        } else {
+            axis->setTicker(QSharedPointer<QCPAxisTicker>(new QCPAxisTicker));
+            axis->setNumberFormat("g");
+            axis->setNumberPrecision(6);
+        }
+    }
+    double xMin = 1e300, xMax = -1e300, yMin = 1e300, yMax = -1e300;
+    for (std::size_t i = 0; i < spec.series.size(); ++i) {
+        const DataSeries& s = spec.series[i];
+        QCPGraph* graph = plot_->addGraph();
+        graph->setName(s.label);
+        graph->setPen(seriesPen(int(i), 2));
+        graph->setScatterStyle(QCPScatterStyle(seriesMarker(int(i)), 6));
+        QVector<double> errors;
+        for (std::size_t k = 0; k < s.x.size() && k < s.y.size(); ++k) {
+            const double x = s.x[k], y = s.y[k];
+            if (!std::isfinite(x) || !std::isfinite(y) || (spec.xLog && !(x > 0.0)) || (spec.yLog && !(y > 0.0)))
+                continue;
+            graph->addData(x, y);
+            const double e = k < s.yError.size() ? s.yError[k] : 0.0;
+            errors.push_back(e);
+            ++pointsDrawn_;
+            xMin = std::min(xMin, x);
+            xMax = std::max(xMax, x);
+            yMin = std::min(yMin, spec.yLog ? y : y - e);
+            yMax = std::max(yMax, y + e);
+        }
+        if (std::any_of(errors.begin(), errors.end(), [](double e) { return e > 0.0; })) {
+            auto* bars = new QCPErrorBars(plot_->xAxis, plot_->yAxis);
+            bars->removeFromLegend();
+            bars->setDataPlottable(graph);
+            bars->setData(errors);
+            bars->setPen(QPen(seriesColour(int(i)), 1));
+        }
+    }
+    const auto range = [](double lo, double hi, bool log) {
+        if (lo > hi) return log ? QCPRange(1e-4, 1.0) : QCPRange(0.0, 1.0);
+        if (log) {  // whole decades, so that the ticker labels powers of ten
+            const double l = std::pow(10.0, std::floor(std::log10(lo / 1.2)));
+            const double h = std::pow(10.0, std::ceil(std::log10(hi * 1.2)));
+            return QCPRange(l, h > l ? h : 10.0 * l);
+        }
+        const double pad = hi > lo ? 0.05 * (hi - lo) : std::max(1.0, std::abs(lo)) * 0.1;
+        return QCPRange(lo - pad, hi + pad);
+    };
+    plot_->xAxis->setRange(range(xMin, xMax, spec.xLog));
+    plot_->yAxis->setRange(range(yMin, yMax, spec.yLog));
+    if (!spec.title.isEmpty()) setTitle(spec.title);
+    if (!legendMoved_) {  // beside the axes: a sweep's curves would hide under it
+        legendOutside();
+        legendMoved_ = true;
+    }
+    plot_->replot();
 }
 
 PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {

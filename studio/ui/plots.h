@@ -155,6 +155,31 @@ private:
     double markedG_ = 0.0;
 };
 
+// A plot drawn from data alone: the sweep's plots (tyndall sweep writes their data as plots/plots.json, and
+// tyndall-plot draws them). Each series is a curve with markers and, where given, error bars.
+struct DataSeries {
+    QString label;
+    std::vector<double> x, y, yError;  // yError empty or one per point (0: none)
+};
+struct DataPlotSpec {
+    QString title, xLabel, yLabel;
+    bool xLog = false, yLog = false;
+    std::vector<DataSeries> series;
+};
+
+class DataPlot final : public Plot {
+    Q_OBJECT
+public:
+    explicit DataPlot(const QString& name, QWidget* parent = nullptr);
+    void draw(const DataPlotSpec& spec);
+    // The points drawn (a log axis leaves out values <= 0), for tests.
+    int pointsDrawn() const { return pointsDrawn_; }
+
+private:
+    int pointsDrawn_ = 0;
+    bool legendMoved_ = false;
+};
+
 // The dock's content: the plots in tabs.
 class PlotPanel final : public QWidget {
     Q_OBJECT
