@@ -9,16 +9,20 @@
 #include <nlohmann/json.hpp>
 
 #include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <memory>
 #include <numbers>
+#include <set>
 #include <tuple>
+#include <utility>
 
 namespace fs = std::filesystem;
 
@@ -62,7 +66,8 @@ std::string writeFile(const fs::path& path, const std::string& text) {
 std::vector<std::string> bundledProjects() {
     std::vector<std::string> out;
     for (const auto& entry : fs::recursive_directory_iterator(source("projects")))
-        if (entry.path().extension() == ".json") out.push_back(entry.path().string());
+        if (entry.path().extension() == ".json" && !entry.path().filename().string().ends_with(".sweep.json"))
+            out.push_back(entry.path().string());  // projects, not sweep specs (projects/sweeps)
     std::sort(out.begin(), out.end());
     return out;
 }
@@ -771,6 +776,298 @@ TEST(Cli, PlotWritesTheLtsdPlotsAsCsv) {
         EXPECT_NE(bad.output.find(c.expected), std::string::npos) << c.args << "\n" << bad.output;
         EXPECT_FALSE(fs::exists(dir / "a.csv")) << c.args;
     }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// tyndall sweep (issue 36, docs/sweeps.md). A small sweep: LTSD and Volume-RIS at two values of g, two seeds, 1 and 2
+// spp, against references of 32 spp in two shards each (20 tasks of well under a second at 32 x 24).
+
+std::string sweepSpec(const fs::path& dir, const std::string& extra = "", int referenceSpp = 32) {
+    const std::string spec = R"({"tyndallSweep": 1, "name": "test sweep",
+        "project": ")" + source("projects/ltsd/fig10-nodes.json") +
+                             R"(", "size": "32x24",
+        "views": ["N 8 equiangular", "volume-ris"], "grid": {"media[fog].phase.g": [-0.5, 0.4]},
+        "seeds": [1, 2], "spp": [1, 2], "reference": {"spp": )" +
+                             std::to_string(referenceSpp) + R"(, "shards": 2})" + extra + "}";
+    return writeFile(dir / "test.sweep.json", spec);
+}
+
+std::vector<std::vector<std::string>> readCsv(const fs::path& path) {
+    std::vector<std::vector<std::string>> rows;
+    std::ifstream in(path);
+    for (std::string line; std::getline(in, line);) {
+        std::vector<std::string> fields;
+        std::string field;
+        bool quoted = false;
+        for (char c : line) {
+            if (c == '"')
+                quoted = !quoted;
+            else if (c == ',' && !quoted)
+                fields.push_back(std::exchange(field, ""));
+            else
+                field += c;
+        }
+        fields.push_back(field);
+        rows.push_back(fields);
+    }
+    return rows;
+}
+
+// Every render of a local sweep against its merged reference: the CSV's metrics are tyndall compare's of the same
+// images, the references are merges of their shards, and a second run renders nothing.
+TEST(Sweep, RunsLocallyAndGathersMetricsAgainstMergedReferences) {
+    const fs::path dir = scratch("sweep-local");
+    const std::string spec = sweepSpec(dir);
+    const std::string out = (dir / "out").string();
+    const CliRun r = tyndall("sweep '" + spec + "' --out '" + out + "' --jobs 2");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("20 tasks"), std::string::npos) << r.output;
+
+    const auto rows = readCsv(fs::path(out) / "results.csv");
+    ASSERT_EQ(rows.size(), 17u);  // the header and 2 views x 2 g x 2 seeds x 2 spp
+    const auto column = [&](const std::string& name) {
+        const auto it = std::find(rows[0].begin(), rows[0].end(), name);
+        EXPECT_NE(it, rows[0].end()) << name;
+        return std::size_t(it - rows[0].begin());
+    };
+    const std::size_t relMSE = column("relMSE"), image = column("image"), reference = column("reference"),
+                      g = column("media[fog].phase.g"), spp = column("spp"), view = column("view");
+    std::set<std::string> references;
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+        EXPECT_TRUE(rows[i][g] == "-0.5" || rows[i][g] == "0.4") << rows[i][g];
+        EXPECT_TRUE(rows[i][spp] == "1" || rows[i][spp] == "2") << rows[i][spp];
+        EXPECT_GT(std::stod(rows[i][relMSE]), 0.0);
+        references.insert(rows[i][reference]);
+    }
+    EXPECT_EQ(references.size(), 2u);  // one per g: LTSD and Volume-RIS render the same part
+    // A row's metrics are those of tyndall compare.
+    const CliRun compare = tyndall("compare '" + out + "/" + rows[5][image] + "' -r '" + out + "/" +
+                                   rows[5][reference] + "' --json '" + (dir / "compare.json").string() + "'");
+    ASSERT_EQ(compare.exitCode, 0) << compare.output;
+    const auto metrics = nlohmann::json::parse(std::ifstream(dir / "compare.json"))["images"][0];
+    EXPECT_NEAR(std::stod(rows[5][relMSE]), metrics["relMSE"].get<double>(),
+                1e-12 + 1e-9 * metrics["relMSE"].get<double>());
+    // The references merge their two shards of 16 spp.
+    const tyndall::Image merged = tyndall::readImage(out + "/" + *references.begin());
+    EXPECT_EQ(merged.metadata.at("spp"), "32");
+    EXPECT_EQ(merged.metadata.at("shards"), "0/2,1/2");
+    // More samples, less error: Volume-RIS's mean relMSE over seeds and g at 2 spp is below that at 1 spp.
+    double at1 = 0.0, at2 = 0.0;
+    for (std::size_t i = 1; i < rows.size(); ++i)
+        if (rows[i][view] == "volume-ris") (rows[i][spp] == "1" ? at1 : at2) += std::stod(rows[i][relMSE]);
+    EXPECT_LT(at2, at1);
+
+    const auto results = nlohmann::json::parse(std::ifstream(fs::path(out) / "results.json"));
+    EXPECT_EQ(results["renders"].size(), 16u);
+    EXPECT_EQ(results["references"].size(), 2u);
+    const auto plots = nlohmann::json::parse(std::ifstream(fs::path(out) / "plots" / "plots.json"))["plots"];
+    std::set<std::string> names;
+    for (const auto& p : plots)
+        names.insert(p["file"].get<std::string>());
+    EXPECT_EQ(names, (std::set<std::string>{"error-vs-media-fog-phase-g", "error-vs-time", "error-vs-spp"}));
+    // Against g: a curve per view and spp; against time and spp: a curve per view and g. Each point a mean over seeds.
+    for (const auto& p : plots) {
+        EXPECT_EQ(p["series"].size(), 4u) << p["file"];
+        for (const auto& series : p["series"])
+            EXPECT_EQ(series["y"].size(), 2u) << p["file"];
+    }
+    const auto table = readCsv(fs::path(out) / "plots" / "equal-time.csv");
+    ASSERT_EQ(table.size(), 5u);  // the times, and a row per curve of error-vs-time
+    EXPECT_EQ(table[0].size(), 5u);
+    EXPECT_NE(table[0][1].find("relMSE at "), std::string::npos);
+#ifdef TYNDALL_PLOT
+    for (const std::string& name : names) {
+        EXPECT_GT(fs::file_size(fs::path(out) / "plots" / (name + ".png")), 10000u) << name;
+        std::ifstream svg(fs::path(out) / "plots" / (name + ".svg"));
+        const std::string text{std::istreambuf_iterator<char>(svg), {}};
+        EXPECT_NE(text.find("<svg"), std::string::npos) << name;
+        EXPECT_NE(text.find("volume-ris"), std::string::npos) << name << ": the legend names the views";
+    }
+#endif
+
+    // Run again: every task is done and verified, nothing renders; the status says so.
+    const auto stamp = fs::last_write_time(fs::path(out) / rows[1][image]);
+    const CliRun again = tyndall("sweep '" + spec + "' --out '" + out + "'");
+    ASSERT_EQ(again.exitCode, 0) << again.output;
+    EXPECT_NE(again.output.find("20 done before"), std::string::npos) << again.output;
+    EXPECT_EQ(fs::last_write_time(fs::path(out) / rows[1][image]), stamp);
+    const CliRun status = tyndall("sweep --status '" + out + "'");
+    EXPECT_EQ(status.exitCode, 0);
+    EXPECT_NE(status.output.find("20 done, 0 running, 0 failed"), std::string::npos) << status.output;
+    // A task whose output changed is not done: it renders again.
+    std::ofstream(fs::path(out) / rows[1][image], std::ios::app) << "x";
+    const CliRun repaired = tyndall("sweep '" + spec + "' --out '" + out + "'");
+    ASSERT_EQ(repaired.exitCode, 0) << repaired.output;
+    EXPECT_NE(repaired.output.find("19 done before"), std::string::npos) << repaired.output;
+}
+
+// Starts a sweep in its own session (so that the test can kill it with its tasks) and returns its pid.
+long startSweep(const std::string& args, const fs::path& log) {
+    const fs::path pidFile = log.string() + ".pid";
+    const std::string command = "setsid " + std::string(TYNDALL_CLI) + " sweep " + args + " > '" + log.string() +
+                                "' 2>&1 & echo $! > '" + pidFile.string() + "'";
+    EXPECT_EQ(std::system(command.c_str()), 0);
+    long pid = 0;
+    std::ifstream(pidFile) >> pid;
+    return pid;
+}
+
+// Waits up to a minute for a file matching `suffix` in `dir`; its path, or "" on time-out.
+fs::path waitForFile(const fs::path& dir, const std::string& suffix) {
+    for (int i = 0; i < 3000; ++i) {
+        std::error_code ec;
+        for (const auto& entry : fs::directory_iterator(dir, ec))
+            if (entry.path().filename().string().ends_with(suffix)) return entry.path();
+        usleep(20000);
+    }
+    return {};
+}
+
+bool waitForExit(long pid) {
+    for (int i = 0; i < 3000; ++i) {
+        if (::kill(pid_t(pid), 0) != 0) return true;
+        usleep(20000);
+    }
+    return false;
+}
+
+// A sweep killed with its tasks resumes: the tasks that finished are kept, the one that was running renders again.
+TEST(Sweep, ResumesAfterItIsKilled) {
+    const fs::path dir = scratch("sweep-killed");
+    const std::string spec = sweepSpec(dir, "", 512);  // slower reference shards, to kill the sweep in the middle
+    const std::string out = (dir / "out").string();
+    fs::create_directories(fs::path(out) / "tasks");
+    const long pid = startSweep("'" + spec + "' --out '" + out + "' --jobs 1", dir / "first.log");
+    ASSERT_GT(pid, 0);
+    ASSERT_FALSE(waitForFile(fs::path(out) / "tasks", ".done.json").empty()) << "no task finished";
+    ::kill(-pid_t(pid), SIGKILL);  // the sweep and its running task
+    ASSERT_TRUE(waitForExit(pid));
+    EXPECT_FALSE(fs::exists(fs::path(out) / "results.csv"));
+    const CliRun status = tyndall("sweep --status '" + out + "'");
+    EXPECT_NE(status.output.find("interrupted"), std::string::npos) << status.output;
+
+    const CliRun resumed = tyndall("sweep '" + spec + "' --out '" + out + "' --jobs 2");
+    ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
+    const std::size_t at = resumed.output.find(" done before");
+    ASSERT_NE(at, std::string::npos) << resumed.output;
+    const int doneBefore = std::stoi(resumed.output.substr(resumed.output.rfind('(', at) + 1));
+    EXPECT_GE(doneBefore, 1) << resumed.output;
+    EXPECT_LT(doneBefore, 20) << resumed.output;
+    EXPECT_EQ(readCsv(fs::path(out) / "results.csv").size(), 17u);
+}
+
+// A task that dies (here killed, as by the OOM killer) fails the sweep: it is named with its log, nothing is gathered,
+// a re-run leaves it failed until --retry-failed.
+TEST(Sweep, AFailedTaskIsReportedAndNothingIsGathered) {
+    const fs::path dir = scratch("sweep-failed");
+    const std::string spec = sweepSpec(dir, "", 512);
+    const std::string out = (dir / "out").string();
+    fs::create_directories(fs::path(out) / "tasks");
+    const long pid = startSweep("'" + spec + "' --out '" + out + "' --jobs 1", dir / "sweep.log");
+    ASSERT_GT(pid, 0);
+    const fs::path running = waitForFile(fs::path(out) / "tasks", ".running.json");
+    ASSERT_FALSE(running.empty());
+    long taskPid = 0;
+    for (int i = 0; i < 100 && taskPid == 0; ++i) {
+        try {
+            taskPid = nlohmann::json::parse(std::ifstream(running)).value("pid", 0L);
+        } catch (const std::exception&) {
+            usleep(20000);
+        }
+    }
+    ASSERT_GT(taskPid, 0);
+    ::kill(pid_t(taskPid), SIGKILL);
+    ASSERT_TRUE(waitForExit(pid));
+    std::ifstream logFile(dir / "sweep.log");
+    const std::string log{std::istreambuf_iterator<char>(logFile), {}};
+    EXPECT_NE(log.find("FAILED task 0"), std::string::npos) << log;
+    EXPECT_NE(log.find("1 task(s) failed; nothing was gathered"), std::string::npos) << log;
+    EXPECT_NE(log.find("logs/"), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(fs::path(out) / "results.csv"));
+
+    const CliRun status = tyndall("sweep --status '" + out + "'");
+    EXPECT_NE(status.output.find("1 failed"), std::string::npos) << status.output;
+    EXPECT_NE(status.output.find("killed by signal 9"), std::string::npos) << status.output;
+    const CliRun gather = tyndall("sweep --gather --out '" + out + "'");
+    EXPECT_EQ(gather.exitCode, 1) << gather.output;
+    EXPECT_NE(gather.output.find("not done"), std::string::npos) << gather.output;
+    EXPECT_FALSE(fs::exists(fs::path(out) / "results.csv"));
+
+    // Without --retry-failed the failed task stays failed (the others run); with it, the sweep completes.
+    const CliRun again = tyndall("sweep '" + spec + "' --out '" + out + "' --jobs 2");
+    EXPECT_EQ(again.exitCode, 1) << again.output;
+    EXPECT_NE(again.output.find("1 failed before, not re-run without --retry-failed"), std::string::npos)
+        << again.output;
+    EXPECT_FALSE(fs::exists(fs::path(out) / "results.csv"));
+    const CliRun retried = tyndall("sweep '" + spec + "' --out '" + out + "' --jobs 2 --retry-failed");
+    EXPECT_EQ(retried.exitCode, 0) << retried.output;
+    EXPECT_TRUE(fs::exists(fs::path(out) / "results.csv"));
+}
+
+// Bad specs are refused before anything runs, naming the spec and the field (the same checks as --set).
+TEST(Sweep, BadSpecsNameTheFieldAndRunNothing) {
+    const fs::path dir = scratch("sweep-bad");
+    const std::string out = (dir / "out").string();
+    const std::string project = source("projects/ltsd/fig10-nodes.json");
+    const auto refused = [&](const std::string& body, const std::string& expected) {
+        const std::string spec = writeFile(dir / "bad.sweep.json", "{\"tyndallSweep\": 1, \"project\": \"" + project +
+                                                                       "\", \"size\": \"16x12\", " + body + "}");
+        const CliRun r = tyndall("sweep '" + spec + "' --out '" + out + "'");
+        EXPECT_EQ(r.exitCode, 2) << body << "\n" << r.output;
+        EXPECT_NE(r.output.find("bad.sweep.json"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(expected), std::string::npos) << body << "\n" << r.output;
+        EXPECT_FALSE(fs::exists(fs::path(out) / "manifest.jsonl")) << body;
+    };
+    refused(R"("views": ["N 8 equiangulr"], "spp": 1)",
+            "views[0]: the project has no view 'N 8 equiangulr'; did you "
+            "mean 'N 8 equiangular'?");
+    refused(R"("views": ["N 8 equiangular"], "grid": {"views[{view}].parameters.nodez": [1, 2]}, "spp": 1)",
+            "grid[\"views[{view}].parameters.nodez\"]: no swept view's technique has this parameter");
+    refused(R"("views": ["N 8 equiangular"], "grid": {"views[{view}].parameters.nodes": [1, 0]}, "spp": 1)",
+            "grid[\"views[{view}].parameters.nodes\"]: view 'N 8 equiangular' at views[{view}].parameters.nodes = 0");
+    refused(R"("grid": {"media[fog].phase.g": [0.2, 1.5]}, "spp": 1)", "grid[\"media[fog].phase.g\"]");
+    refused(R"("grid": {"media[smoke].phase.g": [0.2]}, "spp": 1)", "grid[\"media[smoke].phase.g\"]");
+    refused(R"("spp": 1, "seedz": [1])", "unknown key 'seedz'; did you mean 'seeds'?");
+    refused(R"("spp": 1, "time": 2)", "give either \"spp\"");
+    refused(R"("spp": [1, 0])", "spp[1]: must be an integer in [1, 1048576]");
+    refused(R"("spp": 1, "reference": {"spp": 4, "shards": 8})", "reference.shards: leaves shards without samples");
+    refused(R"("spp": 1, "grid": {"media[fog].phase.g": {"from": 0, "to": 0.5}})", "a range needs \"count\"");
+    refused(R"("spp": 1, "metrics": ["flop"])", "metrics[0]: 'flop' is not an extra metric");
+}
+
+// --executor slurm: the batch scripts (an array over the manifest, a gather job after it), and a clear error without
+// sbatch. The cluster itself is tested by tests/slurm/slurm-sweep.sh.
+TEST(Sweep, SlurmScriptsAndNoSbatch) {
+    const fs::path dir = scratch("sweep-slurm-scripts");
+    const std::string spec = sweepSpec(dir);
+    const std::string out = (dir / "out").string();
+    const CliRun none = tyndall("sweep '" + spec + "' --out '" + out + "' --executor slurm", "PATH=/nonexistent ");
+    EXPECT_EQ(none.exitCode, 2) << none.output;
+    EXPECT_NE(none.output.find("needs sbatch on the PATH"), std::string::npos) << none.output;
+    const CliRun scripts = tyndall("sweep '" + spec + "' --out '" + out +
+                                   "' --executor slurm --no-submit --max-running 3 --partition "
+                                   "night --time 10:00 --cpus-per-task 4");
+    ASSERT_EQ(scripts.exitCode, 0) << scripts.output;
+    std::ifstream arrayFile(fs::path(out) / "slurm" / "array.sh");
+    const std::string array{std::istreambuf_iterator<char>(arrayFile), {}};
+    for (const char* line : {"#SBATCH --array=0-19%3", "#SBATCH --partition=night", "#SBATCH --time=10:00",
+                             "#SBATCH --cpus-per-task=4", "--run-task \"$SLURM_ARRAY_TASK_ID\""})
+        EXPECT_NE(array.find(line), std::string::npos) << line << "\n" << array;
+    std::ifstream gatherFile(fs::path(out) / "slurm" / "gather.sh");
+    const std::string gather{std::istreambuf_iterator<char>(gatherFile), {}};
+    EXPECT_NE(gather.find("sweep --gather --out"), std::string::npos) << gather;
+    EXPECT_NE(scripts.output.find("--dependency=afterok:$id"), std::string::npos) << scripts.output;
+    // The manifest: one task a line, in index order, each with its own output.
+    std::ifstream manifest(fs::path(out) / "manifest.jsonl");
+    int lines = 0;
+    std::set<std::string> outputs;
+    for (std::string line; std::getline(manifest, line); ++lines) {
+        const auto task = nlohmann::json::parse(line);
+        EXPECT_EQ(task["index"], lines);
+        outputs.insert(task["output"].get<std::string>());
+    }
+    EXPECT_EQ(lines, 20);
+    EXPECT_EQ(outputs.size(), 20u);
 }
 
 }  // namespace

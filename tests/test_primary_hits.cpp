@@ -32,7 +32,8 @@ namespace fs = std::filesystem;
 std::vector<std::string> bundledProjects() {
     std::vector<std::string> paths;
     for (const auto& entry : fs::recursive_directory_iterator(fs::path(TYNDALL_SOURCE_DIR) / "projects"))
-        if (entry.path().extension() == ".json") paths.push_back(entry.path().string());
+        if (entry.path().extension() == ".json" && !entry.path().filename().string().ends_with(".sweep.json"))
+            paths.push_back(entry.path().string());  // projects, not sweep specs (projects/sweeps)
     std::sort(paths.begin(), paths.end());
     return paths;
 }

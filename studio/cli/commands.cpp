@@ -37,6 +37,10 @@ void onInterrupt(int) { gCancel.store(true); }
 
 }  // namespace
 
+bool renderCancelled() {
+    return gCancel.load();
+}
+
 int guarded(const std::function<int()>& body) {
     try {
         return body();
@@ -233,14 +237,17 @@ int render(const RenderArgs& args) {
         if (!args.shard.empty()) applyShard(job, args.shard, args.time.has_value());
         warnLeftOut(job, "tyndall: ");
 
-        std::signal(SIGINT, onInterrupt);
+        // Ctrl+C, and SIGTERM (Slurm's scancel and time limit), cancel the render: nothing is written.
+        const auto previousInt = std::signal(SIGINT, onInterrupt);
+        const auto previousTerm = std::signal(SIGTERM, onInterrupt);
         ProgressBar bar("rendering " + job.label);
         RenderCallbacks callbacks;
         callbacks.progress = [&](double f) { bar.update(f); };
         callbacks.cancel = &gCancel;
         RenderResult result = runJob(job, callbacks);
         bar.finish();
-        std::signal(SIGINT, SIG_DFL);
+        std::signal(SIGINT, previousInt);
+        std::signal(SIGTERM, previousTerm);
 
         if (const std::string warning = checkFiniteSamples(result); !warning.empty())
             std::fprintf(stderr, "tyndall: warning: %s\n", warning.c_str());

@@ -31,6 +31,9 @@ struct RenderArgs {
 };
 int render(const RenderArgs& args);
 
+// Whether a render was cancelled (SIGINT or SIGTERM) in this process: a sweep's task records it as such.
+bool renderCancelled();
+
 // The seed of shard I of a render whose seed is `seed`: shard 0 keeps it (a one-shard render is the plain one), the
 // others are decorrelated by a hash of (seed, I).
 std::uint64_t shardSeed(std::uint64_t seed, int shard);

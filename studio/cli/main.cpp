@@ -1,6 +1,7 @@
 // tyndall: the headless command line of Tyndall. Renders views and references, validates projects, compares images,
 // and reads techniques' probes.
 #include "commands.h"
+#include "sweep.h"
 
 #include <CLI/CLI.hpp>
 
@@ -74,6 +75,42 @@ int main(int argc, char** argv) {
         "variance, summed times");
     mergeCmd->add_option("images", mergeArgs.images, "the shards (.exr)")->required();
     mergeCmd->add_option("--out,-o", mergeArgs.out, "the merged image (.exr)")->required();
+
+    SweepArgs sweepArgs;
+    CLI::App* sweepCmd = app.add_subcommand(
+        "sweep",
+        "render a sweep (docs/sweeps.md): views under a grid of --set overrides, seeds and sample counts or time "
+        "budgets, on this machine or on Slurm; gathered into metrics against references, CSV, JSON and plots");
+    sweepCmd->add_option("spec", sweepArgs.spec, "the sweep spec (.json)");
+    sweepCmd->add_option("--out,-o", sweepArgs.out,
+                         "the output folder: manifest.jsonl, tasks/, logs/, references/, results.csv, results.json, "
+                         "plots/ (a re-run resumes: finished tasks are kept)");
+    sweepCmd->add_option("--executor", sweepArgs.executor,
+                         "local (default: this machine) or slurm (a job array and a "
+                         "gather job, through sbatch)");
+    sweepCmd->add_option("--jobs,-j", sweepArgs.jobs, "local: tasks at a time (default 1)")->check(CLI::Range(1, 256));
+    sweepCmd->add_option("--threads", sweepArgs.threads, "CPU threads of the tasks together (0: all)")
+        ->check(CLI::Range(0, 4096));
+    sweepCmd->add_flag("--retry-failed", sweepArgs.retryFailed, "run the tasks that failed before again");
+    sweepCmd->add_option("--status", sweepArgs.status,
+                         "show the done, running, failed and pending tasks of a sweep's "
+                         "output folder, and the logs of the failed ones");
+    sweepCmd->add_flag("--gather", sweepArgs.gather,
+                       "gather the finished tasks of --out (the Slurm gather job runs "
+                       "this)");
+    sweepCmd->add_option("--run-task", sweepArgs.runTask, "run task K of --out's manifest (what the executors start)")
+        ->check(CLI::Range(0, 1 << 30));
+    sweepCmd->add_option("--partition", sweepArgs.partition, "slurm: the partition (sbatch --partition)");
+    sweepCmd->add_option("--time", sweepArgs.timeLimit, "slurm: each task's time limit (sbatch --time, e.g. 30:00)");
+    sweepCmd->add_option("--cpus-per-task", sweepArgs.cpusPerTask, "slurm: CPUs of each task (default 2)")
+        ->check(CLI::Range(1, 4096));
+    sweepCmd
+        ->add_option("--max-running", sweepArgs.maxRunning,
+                     "slurm: tasks running at once (the array's %M; "
+                     "default: no limit)")
+        ->check(CLI::Range(1, 1 << 20));
+    sweepCmd->add_flag("--no-submit", sweepArgs.noSubmit,
+                       "slurm: write the batch scripts and print the sbatch calls, without submitting");
 
     ValidateArgs validate;
     CLI::App* validateCmd = app.add_subcommand("validate", "check project files; each problem names the file, the field and what is allowed");
@@ -168,6 +205,7 @@ int main(int argc, char** argv) {
     if (renderCmd->parsed()) return tyndall::cli::render(render);
     if (validateCmd->parsed()) return tyndall::cli::validate(validate);
     if (mergeCmd->parsed()) return tyndall::cli::merge(mergeArgs);
+    if (sweepCmd->parsed()) return tyndall::cli::sweep(sweepArgs);
     if (compareCmd->parsed()) return tyndall::cli::compare(compare);
     if (probeCmd->parsed()) return tyndall::cli::probe(probe);
     if (infoCmd->parsed()) return tyndall::cli::info(info);

@@ -88,7 +88,9 @@ std::string updated(const ProjectFile& file, const Project& edited) {
 std::vector<fs::path> bundledProjects() {
     std::vector<fs::path> paths;
     for (const auto& entry : fs::recursive_directory_iterator(fs::path(TYNDALL_SOURCE_DIR) / "projects"))
-        if (entry.is_regular_file() && entry.path().extension() == ".json") paths.push_back(entry.path());
+        if (entry.is_regular_file() && entry.path().extension() == ".json" &&
+            !entry.path().filename().string().ends_with(".sweep.json"))  // sweep specs (projects/sweeps)
+            paths.push_back(entry.path());
     std::sort(paths.begin(), paths.end());
     return paths;
 }
