@@ -422,15 +422,16 @@ SweepPlan planSweep(const std::string& specPath) {
     std::map<std::string, std::string> techniqueOf;
     for (const View& v : base.views)
         techniqueOf[v.name] = v.technique;
-    for (const auto& [axis, field] : axisFields)
-        if (std::none_of(views.begin(), views.end(),
-                         [&](const std::string& v) { return axisApplies(axis, techniqueOf[v]); }))
-            throw field.error("no swept view's technique has this parameter (views: " + [&] {
-                std::string list;
-                for (const std::string& v : views)
-                    list += (list.empty() ? "" : ", ") + v + " (" + techniqueOf[v] + ")";
-                return list;
-            }() + ")");
+    for (const auto& axisField : axisFields) {
+        const std::string& axis = axisField.first;  // (clang 14 cannot capture a structured binding)
+        if (std::any_of(views.begin(), views.end(),
+                        [&](const std::string& v) { return axisApplies(axis, techniqueOf[v]); }))
+            continue;
+        std::string list;
+        for (const std::string& v : views)
+            list += (list.empty() ? "" : ", ") + v + " (" + techniqueOf[v] + ")";
+        throw axisField.second.error("no swept view's technique has this parameter (views: " + list + ")");
+    }
 
     // Expand, checking each point and view as `tyndall render` would.
     std::vector<SweepTask> references, renders;
