@@ -2,7 +2,12 @@
 
 #include "tyndall/gpu/resources.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <numeric>
 
@@ -93,20 +98,69 @@ TEST_F(GpuTest, AnImpossibleAllocationIsAnErrorNotACrash) {
     }
 }
 
-TEST(GpuValidation, LayersReportMisuse) {
-    // A buffer of size 0 is invalid (VUID-VkBufferCreateInfo-size-00912) yet harmless to the driver: the layers must
-    // report it, or the clean runs of the other tests prove nothing.
-    ContextOptions options;
-    options.validation = 1;
-    Context context(options);
-    ASSERT_TRUE(context.validationEnabled());
+// A buffer of size 0 is invalid (VUID-VkBufferCreateInfo-size-00912) yet harmless to the driver.
+void createBufferOfSizeZero(Context& context) {
     VkBufferCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
     info.size = 0;
     info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VkBuffer buffer = VK_NULL_HANDLE;
     if (vkCreateBuffer(context.vk(), &info, nullptr, &buffer) == VK_SUCCESS) vkDestroyBuffer(context.vk(), buffer, nullptr);
+}
+
+TEST(GpuValidation, LayersReportMisuse) {
+    // A buffer of size 0 is invalid (VUID-VkBufferCreateInfo-size-00912) yet harmless to the driver: the layers must
+    // report it, or the clean runs of the other tests prove nothing.
+    ExpectedValidationErrors expected;
+    ContextOptions options;
+    options.validation = 1;
+    Context context(options);
+    ASSERT_TRUE(context.validationEnabled());
+    createBufferOfSizeZero(context);
     EXPECT_FALSE(context.validationErrors().empty());
+}
+
+TEST(GpuValidation, SynchronisationValidationReportsAHazard) {
+    // Two transfers write one buffer in one command buffer without a barrier between them: a write-after-write hazard
+    // that lavapipe executes in order and a GPU may not. Synchronisation validation must report it (SYNC-HAZARD-*), or
+    // the clean runs of the GPU tests prove nothing about their barriers.
+    ExpectedValidationErrors expected;
+    ContextOptions options;
+    options.validation = 1;
+    Context context(options);
+    ASSERT_TRUE(context.syncValidationEnabled());
+    Buffer buffer(context, 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    context.submitAndWait([&](VkCommandBuffer cmd) {
+        vkCmdFillBuffer(cmd, buffer.handle(), 0, 256, 1u);
+        vkCmdFillBuffer(cmd, buffer.handle(), 0, 256, 2u);
+    });
+    const std::vector<std::string> errors = context.validationErrors();
+    ASSERT_FALSE(errors.empty());
+    EXPECT_NE(errors[0].find("SYNC-HAZARD-WRITE-AFTER-WRITE"), std::string::npos) << errors[0];
+}
+
+TEST(GpuValidation, AnErrorFailsTheTestThatCausedIt) {
+    // In a child process (this executable, this test alone, TYNDALL_PROVOKE_VALIDATION_ERROR set): a validation error
+    // on a context no fixture checks. The listener (renderers/testing/validation_listener.cpp) must fail the child and
+    // name this test.
+    if (std::getenv("TYNDALL_PROVOKE_VALIDATION_ERROR")) {
+        Context context(ContextOptions{.validation = 1});
+        createBufferOfSizeZero(context);
+        return;
+    }
+    const std::string command = "TYNDALL_PROVOKE_VALIDATION_ERROR=1 /proc/" + std::to_string(::getpid()) +
+                                "/exe --gtest_filter=GpuValidation.AnErrorFailsTheTestThatCausedIt 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string output;
+    char buffer[4096];
+    while (std::size_t n = std::fread(buffer, 1, sizeof(buffer), pipe))
+        output.append(buffer, n);
+    const int status = ::pclose(pipe);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0) << output;
+    EXPECT_NE(output.find("Vulkan validation error during GpuValidation.AnErrorFailsTheTestThatCausedIt"),
+              std::string::npos)
+        << output;
 }
 
 }  // namespace

@@ -86,12 +86,16 @@ public:
     VkDevice vk() const { return device_; }
     VkQueue queue() const { return queue_; }
     bool validationEnabled() const { return validation_; }
+    // Validation with synchronisation validation (the default with validation; TYNDALL_VULKAN_SYNC_VALIDATION=0 turns
+    // it off).
+    bool syncValidationEnabled() const { return syncValidation_; }
     // True when the device was created with VK_KHR_ray_query, acceleration structures and buffer device addresses.
     bool rayQueryEnabled() const { return rayQueryEnabled_; }
     // vkCmdDrawMeshTasksEXT when the device was created with mesh shaders (DeviceInfo::meshShader), else null.
     PFN_vkCmdDrawMeshTasksEXT cmdDrawMeshTasks() const { return cmdDrawMeshTasks_; }
 
-    // Messages of error severity from the validation layers since the context was created (tests fail on any).
+    // Messages of error severity from the validation layers since the context was created, each "<message id>: <text>"
+    // (tests fail on any).
     std::vector<std::string> validationErrors() const;
 
     // Records commands into a one-time command buffer, submits them and waits. Throws GpuError on device loss or
@@ -125,6 +129,8 @@ private:
     VkPipelineCache pipelineCache_ = VK_NULL_HANDLE;
     DeviceInfo info_;
     bool validation_ = false;
+    bool syncValidation_ = false;
+    int suppressedMessages_ = 0;  // validation messages of a known, documented cause (context.cpp, kSuppressions)
     bool rayQueryEnabled_ = false;
     PFN_vkCmdDrawMeshTasksEXT cmdDrawMeshTasks_ = nullptr;
     std::mutex submitMutex_;
@@ -141,6 +147,20 @@ private:
 // exit: every technique renders on it, so that pipelines and device memory are not duplicated per technique. Throws
 // GpuError when there is no Vulkan device.
 std::shared_ptr<Context> sharedContext();
+
+// Every validation error of every context of this process, in order: what the GPU tests' listener
+// (renderers/testing/validation_listener.cpp) fails a test on, whichever context the test used.
+std::vector<std::string> processValidationErrors();
+
+// While one exists, validation errors are expected (a test of the validation itself): contexts still collect them
+// (Context::validationErrors), the process's list does not.
+class ExpectedValidationErrors {
+public:
+    ExpectedValidationErrors();
+    ~ExpectedValidationErrors();
+    ExpectedValidationErrors(const ExpectedValidationErrors&) = delete;
+    ExpectedValidationErrors& operator=(const ExpectedValidationErrors&) = delete;
+};
 
 // True when Vulkan has a device that is not a CPU implementation (lavapipe is one): what `device = auto` of the
 // techniques asks, since their CPU paths are faster than lavapipe. False without Vulkan. Computed once.
