@@ -19,6 +19,7 @@
 #include "image_file.h"
 #include "main_window.h"
 
+#include "tyndall/core/resources.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
 
@@ -59,7 +60,10 @@ int main(int argc, char** argv) {
             project = args[i];
     }
     const bool imagesOnly = project.isEmpty() && !images.isEmpty();
-    if (project.isEmpty() && !imagesOnly) project = TYNDALL_DEFAULT_PROJECT;
+    // The bundled default project, where resourceRoot() finds the data (the source tree, or <prefix>/share/tyndall).
+    const QString defaultProject =
+        QString::fromStdString((tyndall::resourceRoot() / "projects" / "default.json").string());
+    if (project.isEmpty() && !imagesOnly) project = defaultProject;
     const bool interactive = screenshot.isEmpty();
     const auto fail = [&](const QString& message) {
         std::fprintf(stderr, "tyndall-studio: %s\n", qPrintable(message));
@@ -109,7 +113,7 @@ int main(int argc, char** argv) {
             return 2;
         }
     } else {
-        window.openAtStart(project, TYNDALL_DEFAULT_PROJECT);  // a file that does not open: the default one, said so
+        window.openAtStart(project, defaultProject);  // a file that does not open: the default one, said so
     }
     if (!imagesOnly)
         for (const QString& image : images) {

@@ -1,6 +1,8 @@
 #include "main_window.h"
+
 #include "image_file.h"
 
+#include "tyndall/core/resources.h"
 #include "tyndall/techniques/render.h"
 
 #include <QCloseEvent>
@@ -33,6 +35,7 @@
 #include <QVulkanInstance>
 
 #include <algorithm>
+#include <filesystem>
 
 namespace tyndall::studio {
 
@@ -468,7 +471,13 @@ void MainWindow::showShortcuts() {
 }
 
 void MainWindow::showDocumentation() {
-    const QString docs = QStringLiteral(TYNDALL_DOCS_DIR);
+    // Installed: <prefix>/share/doc/tyndall beside the data; built: the source tree's docs/.
+    const std::filesystem::path root = resourceRoot();
+    const QString docs = QString::fromStdString((std::filesystem::is_directory(root / ".." / "doc" / "tyndall")
+                                                     ? root / ".." / "doc" / "tyndall"
+                                                     : root / "docs")
+                                                    .lexically_normal()
+                                                    .string());
     if (!QDir(docs).exists() || !QDesktopServices::openUrl(QUrl::fromLocalFile(docs)))
         QMessageBox::information(this, "Documentation",
                                  "The documentation is in docs/ and README.md of the source tree (" + docs + ").");
