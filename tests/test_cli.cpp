@@ -923,6 +923,19 @@ fs::path waitForFile(const fs::path& dir, const std::string& suffix) {
     return {};
 }
 
+// The pid of the first task of a sweep that is running (from its tasks/<id>.running.json); 0 when none starts.
+long runningTaskPid(const std::string& out) {
+    const fs::path running = waitForFile(fs::path(out) / "tasks", ".running.json");
+    for (int i = 0; i < 100 && !running.empty(); ++i) {
+        try {
+            if (const long pid = nlohmann::json::parse(std::ifstream(running)).value("pid", 0L); pid > 0) return pid;
+        } catch (const std::exception&) {
+        }
+        usleep(20000);
+    }
+    return 0;
+}
+
 bool waitForExit(long pid) {
     for (int i = 0; i < 3000; ++i) {
         if (::kill(pid_t(pid), 0) != 0) return true;
@@ -965,16 +978,7 @@ TEST(Sweep, AFailedTaskIsReportedAndNothingIsGathered) {
     fs::create_directories(fs::path(out) / "tasks");
     const long pid = startSweep("'" + spec + "' --out '" + out + "' --jobs 1", dir / "sweep.log");
     ASSERT_GT(pid, 0);
-    const fs::path running = waitForFile(fs::path(out) / "tasks", ".running.json");
-    ASSERT_FALSE(running.empty());
-    long taskPid = 0;
-    for (int i = 0; i < 100 && taskPid == 0; ++i) {
-        try {
-            taskPid = nlohmann::json::parse(std::ifstream(running)).value("pid", 0L);
-        } catch (const std::exception&) {
-            usleep(20000);
-        }
-    }
+    const long taskPid = runningTaskPid(out);
     ASSERT_GT(taskPid, 0);
     ::kill(pid_t(taskPid), SIGKILL);
     ASSERT_TRUE(waitForExit(pid));
@@ -1001,6 +1005,30 @@ TEST(Sweep, AFailedTaskIsReportedAndNothingIsGathered) {
     EXPECT_FALSE(fs::exists(fs::path(out) / "results.csv"));
     const CliRun retried = tyndall("sweep '" + spec + "' --out '" + out + "' --jobs 2 --retry-failed");
     EXPECT_EQ(retried.exitCode, 0) << retried.output;
+    EXPECT_TRUE(fs::exists(fs::path(out) / "results.csv"));
+}
+
+// A task cancelled on its own (SIGTERM: scancel, a time limit) is interrupted, not failed: the sweep says so, and
+// the same command runs it again without --retry-failed.
+TEST(Sweep, ACancelledTaskRunsAgain) {
+    const fs::path dir = scratch("sweep-cancelled");
+    const std::string spec = sweepSpec(dir, "", 512);
+    const std::string out = (dir / "out").string();
+    fs::create_directories(fs::path(out) / "tasks");
+    const long pid = startSweep("'" + spec + "' --out '" + out + "' --jobs 1", dir / "sweep.log");
+    ASSERT_GT(pid, 0);
+    const long taskPid = runningTaskPid(out);
+    ASSERT_GT(taskPid, 0);
+    ::kill(pid_t(taskPid), SIGTERM);
+    ASSERT_TRUE(waitForExit(pid));
+    std::ifstream logFile(dir / "sweep.log");
+    const std::string log{std::istreambuf_iterator<char>(logFile), {}};
+    EXPECT_NE(log.find("CANCELLED task 0"), std::string::npos) << log;
+    EXPECT_NE(log.find("1 task(s) were cancelled"), std::string::npos) << log;
+    const CliRun status = tyndall("sweep --status '" + out + "'");
+    EXPECT_NE(status.output.find("0 failed, 1 interrupted"), std::string::npos) << status.output;
+    const CliRun again = tyndall("sweep '" + spec + "' --out '" + out + "' --jobs 2");
+    EXPECT_EQ(again.exitCode, 0) << again.output;
     EXPECT_TRUE(fs::exists(fs::path(out) / "results.csv"));
 }
 

@@ -243,7 +243,7 @@ int runLocal(const std::string& dir, const SweepPlan& plan, const std::vector<co
     ProgressBar bar("sweep");
     std::vector<Child> running;
     std::size_t next = 0, finished = 0;
-    std::vector<const SweepTask*> failed;
+    std::vector<const SweepTask*> failed, interrupted;
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     while (finished < todo.size()) {
         while (!gSweepInterrupted.load() && next < todo.size() && int(running.size()) < jobs) {
@@ -264,7 +264,6 @@ int runLocal(const std::string& dir, const SweepPlan& plan, const std::vector<co
         ++finished;
         const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
         if (!ok) {
-            failed.push_back(&task);
             // A task killed before it could say so leaves no marker of its own.
             if (!fs::exists(marker(dir, task, "failed")) && !fs::exists(marker(dir, task, "done"))) {
                 const std::string why = WIFSIGNALED(status) ? "killed by signal " + std::to_string(WTERMSIG(status))
@@ -282,14 +281,18 @@ int runLocal(const std::string& dir, const SweepPlan& plan, const std::vector<co
                 fs::remove(marker(dir, task, "running"), ec);
             }
         }
+        // A task cancelled (SIGINT or SIGTERM) is interrupted, not failed: it runs again.
+        const bool cancelled = !ok && taskStatus(dir, task).state == TaskState::Interrupted;
+        if (!ok) (cancelled ? interrupted : failed).push_back(&task);
+        const char* outcome = ok ? "done" : cancelled ? "CANCELLED" : "FAILED";
         if (tty) {
             bar.update(double(finished) / double(todo.size()));
             if (!ok)
-                std::fprintf(stderr, "\rfailed: task %d %s (%s), log %s\n", task.index, task.id.c_str(),
+                std::fprintf(stderr, "\r%s: task %d %s (%s), log %s\n", outcome, task.index, task.id.c_str(),
                              describeTask(task).c_str(), logOf(dir, task).c_str());
         } else {
-            std::printf("[%zu/%zu] %s task %d %s: %s\n", finished, todo.size(), ok ? "done" : "FAILED", task.index,
-                        task.id.c_str(), describeTask(task).c_str());
+            std::printf("[%zu/%zu] %s task %d %s: %s\n", finished, todo.size(), outcome, task.index, task.id.c_str(),
+                        describeTask(task).c_str());
             std::fflush(stdout);
         }
     }
@@ -307,6 +310,13 @@ int runLocal(const std::string& dir, const SweepPlan& plan, const std::vector<co
             std::fprintf(stderr, "  task %d %s (%s): log %s\n", t->index, t->id.c_str(), describeTask(*t).c_str(),
                          logOf(dir, *t).c_str());
         std::fprintf(stderr, "fix the cause and run again with --retry-failed\n");
+        return kFailure;
+    }
+    if (!interrupted.empty()) {
+        std::fprintf(stderr,
+                     "tyndall: %zu task(s) were cancelled; nothing was gathered; run the same command again to "
+                     "resume\n",
+                     interrupted.size());
         return kFailure;
     }
     return kOk;
@@ -499,11 +509,13 @@ TaskStatus taskStatus(const std::string& dir, const SweepTask& task) {
         return {TaskState::Pending, "its output does not match its record (re-runs)"};
     }
     if (const auto failed = readJson(marker(dir, task, "failed"))) {
-        std::string detail =
-            failed->value("cancelled", false) ? "cancelled" : "exit " + std::to_string(failed->value("exitCode", -1));
+        const std::string where = " on " + failed->value("host", std::string("?")) + ", log " +
+                                  failed->value("log", logOf(dir, task).string());
+        // Cancelled (Ctrl-C, scancel, a time limit: SIGINT or SIGTERM) is not the task's failure: it runs again.
+        if (failed->value("cancelled", false)) return {TaskState::Interrupted, "cancelled" + where + " (re-runs)"};
+        std::string detail = "exit " + std::to_string(failed->value("exitCode", -1));
         if (failed->contains("why")) detail = failed->value("why", detail);
-        return {TaskState::Failed, detail + " on " + failed->value("host", std::string("?")) + ", log " +
-                                       failed->value("log", logOf(dir, task).string())};
+        return {TaskState::Failed, detail + where};
     }
     if (const auto running = readJson(marker(dir, task, "running"))) {
         const std::string host = running->value("host", std::string("?"));
