@@ -1096,6 +1096,30 @@ TEST(Sweep, SlurmScriptsAndNoSbatch) {
     }
     EXPECT_EQ(lines, 20);
     EXPECT_EQ(outputs.size(), 20u);
+
+    // Task 3 runs on another node from that submission: a new one leaves it out, and a changed spec is refused while
+    // it runs (its task reads the manifest by line).
+    const auto task3 = nlohmann::json::parse([&] {
+        std::ifstream in(fs::path(out) / "manifest.jsonl");
+        std::string line;
+        for (int i = 0; i <= 3; ++i)
+            std::getline(in, line);
+        return line;
+    }());
+    writeFile(fs::path(out) / "tasks" / (task3["id"].get<std::string>() + ".running.json"),
+              R"({"host": "node-elsewhere", "pid": 4242, "since": "2026-12-07T00:00:00Z"})");
+    const CliRun resubmit = tyndall("sweep '" + spec + "' --out '" + out + "' --executor slurm --no-submit");
+    ASSERT_EQ(resubmit.exitCode, 0) << resubmit.output;
+    EXPECT_NE(resubmit.output.find("1 task(s) are running from an earlier submission"), std::string::npos)
+        << resubmit.output;
+    std::ifstream again(fs::path(out) / "slurm" / "array.sh");
+    const std::string rewritten{std::istreambuf_iterator<char>(again), {}};
+    EXPECT_NE(rewritten.find("#SBATCH --array=0-2,4-19\n"), std::string::npos) << rewritten;
+    const std::string changed = sweepSpec(dir, "", 64);
+    const CliRun refused = tyndall("sweep '" + changed + "' --out '" + out + "' --executor slurm --no-submit");
+    EXPECT_EQ(refused.exitCode, 2) << refused.output;
+    EXPECT_NE(refused.output.find("while its task 3 is running (on node-elsewhere"), std::string::npos)
+        << refused.output;
 }
 
 }  // namespace

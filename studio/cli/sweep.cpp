@@ -26,6 +26,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -547,9 +548,31 @@ int sweep(const SweepArgs& args) {
                              "'" + args.out + "' holds a manifest without its sweep.json");
 
         const SweepPlan plan = planSweep(args.spec);  // everything is checked before anything runs
+        // Running tasks (of Slurm jobs, or another sweep here) read the manifest by line: it must not change under
+        // them.
+        if (fs::exists(fs::path(args.out) / "manifest.jsonl") && fs::exists(fs::path(args.out) / "sweep.json")) {
+            std::optional<SweepPlan> previous;
+            try {
+                previous = readPlan(args.out);
+            } catch (const InputError&) {  // a broken old plan is replaced
+            }
+            const auto sameTasks = [&] {
+                if (previous->tasks.size() != plan.tasks.size()) return false;
+                for (std::size_t i = 0; i < plan.tasks.size(); ++i)
+                    if (previous->tasks[i].id != plan.tasks[i].id) return false;
+                return true;
+            };
+            if (previous && !sameTasks())
+                for (const SweepTask& t : previous->tasks)
+                    if (const TaskStatus s = taskStatus(args.out, t); s.state == TaskState::Running)
+                        throw InputError(InputLocation{args.spec, 0, 0, ""},
+                                         "changes the tasks of the sweep in " + args.out + " while its task " +
+                                             std::to_string(t.index) + " is running (" + s.detail +
+                                             "); wait for its tasks or cancel them first");
+        }
         writePlan(args.out, plan);
         std::vector<const SweepTask*> todo;
-        std::size_t done = 0, failed = 0;
+        std::size_t done = 0, failed = 0, running = 0;
         for (const SweepTask& t : plan.tasks) {
             const TaskStatus s = taskStatus(args.out, t);
             if (s.state == TaskState::Done)
@@ -560,9 +583,16 @@ int sweep(const SweepArgs& args) {
                 throw InputError(InputLocation{"", 0, 0, "--out"},
                                  "task " + std::to_string(t.index) + " is running (" + s.detail +
                                      "); wait for it, or stop it, before running this sweep again");
+            else if (s.state == TaskState::Running)  // a Slurm task of an earlier submission: not submitted twice
+                ++running;
             else
                 todo.push_back(&t);
         }
+        if (running > 0)
+            std::printf(
+                "%zu task(s) are running from an earlier submission and are not submitted again (if one is "
+                "not, remove its tasks/<id>.running.json)\n",
+                running);
         std::printf("sweep '%s': %zu tasks (%zu done before, %zu failed before%s), manifest %s/manifest.jsonl\n",
                     plan.name.c_str(), plan.tasks.size(), done, failed,
                     failed > 0 && !args.retryFailed ? ", not re-run without --retry-failed" : "", args.out.c_str());
@@ -576,6 +606,7 @@ int sweep(const SweepArgs& args) {
         if (args.executor == "slurm") {
             if (!todo.empty()) return submitSlurm(args.out, plan, todo, args);
             if (failed > 0) return int(kFailure);
+            if (running > 0) return int(kOk);  // their gather job comes after them
             return gatherSweep(args.out);
         }
         if (!todo.empty())
