@@ -5,12 +5,27 @@
 #include <QMetaObject>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
+#include <thread>
 
 namespace tyndall::studio {
 
 ComparisonModel::ComparisonModel(Background& background, QObject* parent) : QObject(parent), background_(background) {}
+
+ComparisonModel::~ComparisonModel() {
+    while (jobsInFlight_.load() > 0)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+}
+
+void ComparisonModel::runInBackground(std::function<void()> work) {
+    ++jobsInFlight_;
+    background_.run([this, work = std::move(work)] {
+        work();
+        --jobsInFlight_;  // the last use of `this`
+    });
+}
 
 void ComparisonModel::reset(const std::vector<ViewInfo>& views) {
     projectViews_ = int(views.size());
@@ -334,7 +349,7 @@ void ComparisonModel::updateMetrics(int view) {
     ++metricsPending_;
     const quint64 request = ++metricsRequests_;
     latestMetrics_[std::size_t(view)] = request;
-    background_.run([this, image, against, exposure, region, request] {
+    runInBackground([this, image, against, exposure, region, request] {
         std::optional<Metrics> whole, part;
         try {
             whole = computeMetrics(*image, *against, exposure);
@@ -397,7 +412,7 @@ void ComparisonModel::updateConvergence() {
     emit convergenceChanged();
     if (items.empty()) return;
     ++convergencePending_;
-    background_.run([this, items = std::move(items)]() mutable {
+    runInBackground([this, items = std::move(items)]() mutable {
         for (Item& item : items) {
             const Image &a = *item.image, &r = *item.reference;
             double sum = 0.0;

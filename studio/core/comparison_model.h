@@ -14,6 +14,8 @@
 #include <QObject>
 #include <QRect>
 
+#include <atomic>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -30,6 +32,9 @@ class ComparisonModel : public QObject {
     Q_OBJECT
 public:
     ComparisonModel(Background& background, QObject* parent = nullptr);
+    // Waits for its jobs on the shared background pool: each ends by posting its result to this model, which must
+    // still exist when it posts (a queued call to an object deleted after the post is dropped).
+    ~ComparisonModel() override;
 
     // A view list of its own: names, display names of techniques, exposures and the states of their parts.
     struct ViewInfo {
@@ -93,6 +98,9 @@ private:
     void updateConvergence();
     void refreshAlternates();
     void syncImages();  // the image views' references, states and pairs from their project views
+    // background_.run, counted in jobsInFlight_ until the job has posted its result.
+    void runInBackground(std::function<void()> work);
+    std::atomic<int> jobsInFlight_{0};
 
     struct ImageView {
         QString name, kind;
