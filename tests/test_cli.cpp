@@ -944,6 +944,22 @@ bool waitForExit(long pid) {
     return false;
 }
 
+// Runs a sweep one task at a time, sends `signal` to its first task once it runs, waits for the sweep to end and
+// returns what the sweep printed (empty, with a failure, when a step does not happen).
+std::string signalTheFirstTask(const std::string& spec, const std::string& out, int signal) {
+    fs::create_directories(fs::path(out) / "tasks");
+    const fs::path log = fs::path(out).parent_path() / "sweep.log";
+    const long pid = startSweep("'" + spec + "' --out '" + out + "' --jobs 1", log);
+    EXPECT_GT(pid, 0);
+    const long taskPid = runningTaskPid(out);
+    EXPECT_GT(taskPid, 0) << "no task started";
+    if (pid <= 0 || taskPid <= 0) return "";
+    ::kill(pid_t(taskPid), signal);
+    EXPECT_TRUE(waitForExit(pid));
+    std::ifstream in(log);
+    return std::string{std::istreambuf_iterator<char>(in), {}};
+}
+
 // A sweep killed with its tasks resumes: the tasks that finished are kept, the one that was running renders again.
 TEST(Sweep, ResumesAfterItIsKilled) {
     const fs::path dir = scratch("sweep-killed");
@@ -975,15 +991,7 @@ TEST(Sweep, AFailedTaskIsReportedAndNothingIsGathered) {
     const fs::path dir = scratch("sweep-failed");
     const std::string spec = sweepSpec(dir, "", 512);
     const std::string out = (dir / "out").string();
-    fs::create_directories(fs::path(out) / "tasks");
-    const long pid = startSweep("'" + spec + "' --out '" + out + "' --jobs 1", dir / "sweep.log");
-    ASSERT_GT(pid, 0);
-    const long taskPid = runningTaskPid(out);
-    ASSERT_GT(taskPid, 0);
-    ::kill(pid_t(taskPid), SIGKILL);
-    ASSERT_TRUE(waitForExit(pid));
-    std::ifstream logFile(dir / "sweep.log");
-    const std::string log{std::istreambuf_iterator<char>(logFile), {}};
+    const std::string log = signalTheFirstTask(spec, out, SIGKILL);
     EXPECT_NE(log.find("FAILED task 0"), std::string::npos) << log;
     EXPECT_NE(log.find("1 task(s) failed; nothing was gathered"), std::string::npos) << log;
     EXPECT_NE(log.find("logs/"), std::string::npos) << log;
@@ -1014,15 +1022,7 @@ TEST(Sweep, ACancelledTaskRunsAgain) {
     const fs::path dir = scratch("sweep-cancelled");
     const std::string spec = sweepSpec(dir, "", 512);
     const std::string out = (dir / "out").string();
-    fs::create_directories(fs::path(out) / "tasks");
-    const long pid = startSweep("'" + spec + "' --out '" + out + "' --jobs 1", dir / "sweep.log");
-    ASSERT_GT(pid, 0);
-    const long taskPid = runningTaskPid(out);
-    ASSERT_GT(taskPid, 0);
-    ::kill(pid_t(taskPid), SIGTERM);
-    ASSERT_TRUE(waitForExit(pid));
-    std::ifstream logFile(dir / "sweep.log");
-    const std::string log{std::istreambuf_iterator<char>(logFile), {}};
+    const std::string log = signalTheFirstTask(spec, out, SIGTERM);
     EXPECT_NE(log.find("CANCELLED task 0"), std::string::npos) << log;
     EXPECT_NE(log.find("1 task(s) were cancelled"), std::string::npos) << log;
     const CliRun status = tyndall("sweep --status '" + out + "'");
@@ -1061,6 +1061,8 @@ TEST(Sweep, BadSpecsNameTheFieldAndRunNothing) {
     refused(R"("spp": 1, "reference": {"spp": 4, "shards": 8})", "reference.shards: leaves shards without samples");
     refused(R"("spp": 1, "grid": {"media[fog].phase.g": {"from": 0, "to": 0.5}})", "a range needs \"count\"");
     refused(R"("spp": 1, "metrics": ["flop"])", "metrics[0]: 'flop' is not an extra metric");
+    refused(R"("spp": 1, "grid": {"media[fog].phase.g": [0.2, 0.4]}, "reference": {"image": ")" + project + R"("})",
+            "reference.image: one image cannot be the reference of every render");
 }
 
 // --executor slurm: the batch scripts (an array over the manifest, a gather job after it), and a clear error without

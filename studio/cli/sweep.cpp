@@ -77,13 +77,6 @@ fs::path logOf(const std::string& dir, const SweepTask& task) {
     return fs::path(dir) / "logs" / (task.id + ".log");
 }
 
-std::string selfExecutable() {
-    std::error_code ec;
-    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-    if (ec) throw std::runtime_error("cannot find this program's path (/proc/self/exe): " + ec.message());
-    return self.string();
-}
-
 // 'text' for a POSIX shell.
 std::string shellQuoted(const std::string& text) {
     std::string quoted = "'";
@@ -94,8 +87,7 @@ std::string shellQuoted(const std::string& text) {
 
 std::string describeTask(const SweepTask& t) {
     std::string text = t.kind == SweepTaskKind::View ? "view '" + t.view + "'" : "reference of '" + t.view + "'";
-    for (const auto& [path, value] : t.point.items())
-        text += ", " + path + " = " + (value.is_number_float() ? formatShort(value.get<double>()) : value.dump());
+    if (!t.point.empty()) text += ", " + pointText(t.point);
     if (t.kind == SweepTaskKind::ReferenceShard) {
         text += ", " + std::to_string(t.spp) + " spp";
         if (t.shards > 1) text += " shard " + std::to_string(t.shard) + "/" + std::to_string(t.shards);
@@ -483,6 +475,13 @@ int showStatus(const std::string& dir) {
 
 }  // namespace
 
+std::string selfExecutable() {
+    std::error_code ec;
+    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) throw std::runtime_error("cannot find this program's path (/proc/self/exe): " + ec.message());
+    return self.string();
+}
+
 const char* toString(TaskState state) {
     switch (state) {
         case TaskState::Pending:
@@ -572,13 +571,14 @@ int sweep(const SweepArgs& args) {
         }
         writePlan(args.out, plan);
         std::vector<const SweepTask*> todo;
-        std::size_t done = 0, failed = 0, running = 0;
+        std::vector<std::pair<const SweepTask*, TaskStatus>> failedBefore;
+        std::size_t done = 0, running = 0;
         for (const SweepTask& t : plan.tasks) {
             const TaskStatus s = taskStatus(args.out, t);
             if (s.state == TaskState::Done)
                 ++done;
             else if (s.state == TaskState::Failed && !args.retryFailed)
-                ++failed;
+                failedBefore.emplace_back(&t, s);
             else if (s.state == TaskState::Running && args.executor == "local")
                 throw InputError(InputLocation{"", 0, 0, "--out"},
                                  "task " + std::to_string(t.index) + " is running (" + s.detail +
@@ -593,15 +593,13 @@ int sweep(const SweepArgs& args) {
                 "%zu task(s) are running from an earlier submission and are not submitted again (if one is "
                 "not, remove its tasks/<id>.running.json)\n",
                 running);
+        const std::size_t failed = failedBefore.size();
         std::printf("sweep '%s': %zu tasks (%zu done before, %zu failed before%s), manifest %s/manifest.jsonl\n",
                     plan.name.c_str(), plan.tasks.size(), done, failed,
                     failed > 0 && !args.retryFailed ? ", not re-run without --retry-failed" : "", args.out.c_str());
-        if (failed > 0) {
-            for (const SweepTask& t : plan.tasks)
-                if (const TaskStatus s = taskStatus(args.out, t); s.state == TaskState::Failed)
-                    std::fprintf(stderr, "  failed before: task %d %s (%s): %s\n", t.index, t.id.c_str(),
-                                 describeTask(t).c_str(), s.detail.c_str());
-        }
+        for (const auto& [t, s] : failedBefore)
+            std::fprintf(stderr, "  failed before: task %d %s (%s): %s\n", t->index, t->id.c_str(),
+                         describeTask(*t).c_str(), s.detail.c_str());
         std::fflush(stdout);
         if (args.executor == "slurm") {
             if (!todo.empty()) return submitSlurm(args.out, plan, todo, args);

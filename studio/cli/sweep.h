@@ -76,6 +76,13 @@ nlohmann::json planToJson(const SweepPlan& plan);
 // The plan of an output folder (its sweep.json and manifest.jsonl); InputError names the file and line.
 SweepPlan readPlan(const std::string& dir);
 
+// Text of a plan for people (sweep_spec.cpp): an axis by its name where it is a technique parameter of every view
+// ("views[{view}].parameters.nodes" -> "nodes"), else by its path; a value as it reads back (a string without quotes,
+// null empty); a point as "axis = value, ..." (leaving out `except`).
+std::string axisName(const std::string& axis);
+std::string valueText(const nlohmann::json& value);
+std::string pointText(const nlohmann::json& point, const std::string& except = "");
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Task states, from the files in the output folder (sweep.cpp).
 
@@ -87,6 +94,9 @@ struct TaskStatus {
     std::string detail;  // Failed: the exit code; Running: host, pid and since when; Pending: why it re-runs
 };
 TaskStatus taskStatus(const std::string& dir, const SweepTask& task);
+
+// This program's path (/proc/self/exe): what the executors start, and where tyndall-plot is looked for.
+std::string selfExecutable();
 
 // ---------------------------------------------------------------------------------------------------------------------
 // Gathering (sweep_gather.cpp): every task must be Done. Writes results.csv, results.json, references/ (merged shards)

@@ -50,13 +50,6 @@ std::string csvField(const std::string& text) {
     return quoted + "\"";
 }
 
-std::string valueText(const json& value) {
-    if (value.is_null()) return "";
-    if (value.is_number_float()) return formatNumber(value.get<double>());
-    if (value.is_string()) return value.get<std::string>();
-    return value.dump();
-}
-
 double metadataNumber(const Image& image, const char* key, double fallback) {
     const auto it = image.metadata.find(key);
     if (it == image.metadata.end()) return fallback;
@@ -79,21 +72,8 @@ std::string slug(const std::string& text) {
     return out.empty() ? "axis" : out;
 }
 
-// An axis as people read it: a technique parameter of every view by its name ("nodes"), anything else by its path.
-std::string axisName(const std::string& axis) {
-    const std::string prefix = "views[{view}].parameters.";
-    return axis.rfind(prefix, 0) == 0 ? axis.substr(prefix.size()) : axis;
-}
-
 std::string levelText(const SweepTask& t) {
     return t.spp > 0 ? std::to_string(t.spp) + " spp" : formatShort(t.time) + " s";
-}
-
-std::string pointText(const json& point, const std::string& except = "") {
-    std::string text;
-    for (const auto& [path, value] : point.items())
-        if (path != except) text += (text.empty() ? "" : ", ") + axisName(path) + " = " + valueText(value);
-    return text;
 }
 
 // The mean over seeds of one (view, point, level).
@@ -172,9 +152,7 @@ std::optional<double> interpolateLogLog(const Series& s, double t) {
 // tyndall-plot: $TYNDALL_PLOT, else beside this program (installed), else the build tree's studio/plot.
 std::string findPlotProgram() {
     if (const char* env = std::getenv("TYNDALL_PLOT"); env && *env) return env;
-    std::error_code ec;
-    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-    if (ec) return "";
+    const fs::path self = selfExecutable();
     for (const fs::path& candidate :
          {self.parent_path() / "tyndall-plot", self.parent_path().parent_path() / "plot" / "tyndall-plot"})
         if (::access(candidate.c_str(), X_OK) == 0) return candidate.string();
@@ -341,8 +319,18 @@ int gatherSweep(const std::string& dir) {
         return point.empty() ? label : label + " (" + point + ")";
     };
 
+    // Every plot: relMSE (mean over seeds) on a log axis against something.
     json plots = json::array();
-    const std::string yLabel = "relMSE (mean over seeds)";
+    const auto addPlot = [&](const std::string& file, const std::string& what, const std::string& xLabel, bool logX,
+                             const std::vector<Series>& series) {
+        plots.push_back({{"file", file},
+                         {"title", plan.name + ": " + what},
+                         {"xLabel", xLabel},
+                         {"yLabel", "relMSE (mean over seeds)"},
+                         {"xLog", logX},
+                         {"yLog", true},
+                         {"series", seriesJson(series)}});
+    };
     for (const std::string& axis : plan.axes) {
         std::set<double> values;
         bool numeric = true;
@@ -363,13 +351,7 @@ int gatherSweep(const std::string& dir) {
             },
             [&](const Cell& c) { return c.point.contains(axis) ? c.point.at(axis).get<double>() : 0.0; });
         std::erase_if(series, [](const Series& s) { return s.label.empty(); });
-        plots.push_back({{"file", "error-vs-" + slug(axisName(axis))},
-                         {"title", plan.name + ": error against " + axisName(axis)},
-                         {"xLabel", axisName(axis)},
-                         {"yLabel", yLabel},
-                         {"xLog", logX},
-                         {"yLog", true},
-                         {"series", seriesJson(series)}});
+        addPlot("error-vs-" + slug(axisName(axis)), "error against " + axisName(axis), axisName(axis), logX, series);
     }
     // Error against time: a curve per view and point through its sample counts or time budgets. With one of those,
     // a technique's parameters (axes "views[...]...") are what trades time for error: a curve per view and scene
@@ -395,23 +377,11 @@ int gatherSweep(const std::string& dir) {
             const json v = c.point.value(techniqueAxis, json());
             return v.is_number() ? v.get<double>() : c.meanTime();
         });
-    plots.push_back({{"file", "error-vs-time"},
-                     {"title", plan.name + ": error against render time"},
-                     {"xLabel", "render time (s, mean over seeds)"},
-                     {"yLabel", yLabel},
-                     {"xLog", true},
-                     {"yLog", true},
-                     {"series", seriesJson(timeSeries)}});
+    addPlot("error-vs-time", "error against render time", "render time (s, mean over seeds)", true, timeSeries);
     if (plan.measure == "spp" && levels.size() > 1) {
-        const auto sppSeries = seriesOver([&](const Cell& c) { return withPoint(c.view, pointText(c.point)); },
-                                          [](const Cell& c) { return double(c.first->spp); });
-        plots.push_back({{"file", "error-vs-spp"},
-                         {"title", plan.name + ": error against samples per pixel"},
-                         {"xLabel", "samples per pixel"},
-                         {"yLabel", yLabel},
-                         {"xLog", true},
-                         {"yLog", true},
-                         {"series", seriesJson(sppSeries)}});
+        addPlot("error-vs-spp", "error against samples per pixel", "samples per pixel", true,
+                seriesOver([&](const Cell& c) { return withPoint(c.view, pointText(c.point)); },
+                           [](const Cell& c) { return double(c.first->spp); }));
     }
 
     // The equal-time table. With time budgets, every render had the same time: a row per view and point, a column per

@@ -148,10 +148,6 @@ std::string forView(std::string path, const std::string& view) {
     return path;
 }
 
-std::string valueText(const json& value) {
-    return value.is_number_float() ? formatNumber(value.get<double>()) : value.dump();
-}
-
 // The key of the reference a view's render is compared against: everything the reference of its part depends on (the
 // project without its views' techniques and names, the part, the image size, the reference's samples and seed).
 std::string referenceKey(const Project& project, const View& view, int spp, int shards, std::uint64_t seed) {
@@ -456,8 +452,12 @@ SweepPlan planSweep(const std::string& specPath) {
                 checkJob(makeViewJob(project, plan.project, view));
                 const View& v = *std::find_if(project.views.begin(), project.views.end(),
                                               [&](const View& w) { return w.name == view; });
-                key = plan.referenceImage.empty() ? referenceKey(project, v, refSpp, refShards, refSeed) : "given";
-                if (plan.referenceImage.empty() && referenceKeys.insert(key).second) {
+                // With a given image, every render must have the same key (checked below): it names that image.
+                key = referenceKey(project, v, refSpp, refShards, refSeed);
+                if (!plan.referenceImage.empty()) {
+                    referenceKeys.insert(key);
+                    key = "given";
+                } else if (referenceKeys.insert(key).second) {
                     checkJob(makeReferenceJob(project, plan.project, view));
                     for (int s = 0; s < refShards; ++s) {
                         SweepTask t;
@@ -490,24 +490,11 @@ SweepPlan planSweep(const std::string& specPath) {
                 }
         }
     }
-    if (!plan.referenceImage.empty()) {
-        // One given image can only be the reference of a sweep whose renders all share one reference.
-        std::set<std::string> keys;
-        for (const json& point : points)
-            for (const std::string& view : views) {
-                std::vector<std::string> sets = fixed;
-                for (const auto& [path, value] : point.items())
-                    if (axisApplies(path, techniqueOf[view])) sets.push_back(forView(path, view) + "=" + value.dump());
-                const Project project = loadProject(techniqueCatalogue(), plan.project, sets);
-                const View& v = *std::find_if(project.views.begin(), project.views.end(),
-                                              [&](const View& w) { return w.name == view; });
-                keys.insert(referenceKey(project, v, 0, 1, 0));
-            }
-        if (keys.size() > 1)
-            throw root["reference"]["image"].error(
-                "one image cannot be the reference of every render: the views or points of this sweep render " +
-                std::to_string(keys.size()) + " different parts or scenes; give {\"spp\", \"shards\"} instead");
-    }
+    // One given image can only be the reference of a sweep whose renders all share one reference.
+    if (referenceKeys.size() > 1 && !plan.referenceImage.empty())
+        throw root["reference"]["image"].error(
+            "one image cannot be the reference of every render: the views or points of this sweep render " +
+            std::to_string(referenceKeys.size()) + " different parts or scenes; give {\"spp\", \"shards\"} instead");
     plan.tasks = std::move(references);
     plan.tasks.insert(plan.tasks.end(), renders.begin(), renders.end());
     std::set<std::string> ids;
@@ -520,6 +507,25 @@ SweepPlan planSweep(const std::string& specPath) {
                              "'): two points or seeds are the same");
     }
     return plan;
+}
+
+std::string axisName(const std::string& axis) {
+    const std::string prefix = "views[{view}].parameters.";
+    return axis.rfind(prefix, 0) == 0 ? axis.substr(prefix.size()) : axis;
+}
+
+std::string valueText(const json& value) {
+    if (value.is_null()) return "";
+    if (value.is_number_float()) return formatNumber(value.get<double>());
+    if (value.is_string()) return value.get<std::string>();
+    return value.dump();
+}
+
+std::string pointText(const json& point, const std::string& except) {
+    std::string text;
+    for (const auto& [path, value] : point.items())
+        if (path != except) text += (text.empty() ? "" : ", ") + axisName(path) + " = " + valueText(value);
+    return text;
 }
 
 json taskToJson(const SweepTask& t, const SweepPlan& plan) {

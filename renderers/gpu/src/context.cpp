@@ -1,6 +1,7 @@
 #include "tyndall/gpu/context.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cctype>
 #include <cstdlib>
@@ -193,9 +194,7 @@ struct Suppression {
     const char* device;  // a substring of the device's name; "" for every device
     const char* reason;
 };
-constexpr Suppression kSuppressions[] = {
-    {"", "", ""},  // (none yet)
-};
+constexpr std::array<Suppression, 0> kSuppressions{};  // none so far
 
 std::mutex gProcessErrorsMutex;
 std::vector<std::string> gProcessErrors;
@@ -209,8 +208,7 @@ void recordProcessValidationError(const std::string& message) {
 
 bool suppressedValidationMessage(const char* id, const std::string& device) {
     for (const Suppression& s : kSuppressions)
-        if (*s.messageId && std::strcmp(s.messageId, id) == 0 && device.find(s.device) != std::string::npos)
-            return true;
+        if (std::strcmp(s.messageId, id) == 0 && device.find(s.device) != std::string::npos) return true;
     return false;
 }
 
@@ -282,15 +280,13 @@ void Context::createInstance() {
     // With validation, synchronisation validation too (hazards that a software device forgives show up on a GPU):
     // off with TYNDALL_VULKAN_SYNC_VALIDATION=0; the best-practices checks on with TYNDALL_VULKAN_BEST_PRACTICES=1
     // (advice, not errors: docs/testing.md).
-    std::vector<VkValidationFeatureEnableEXT> enabled;
     const char* sync = std::getenv("TYNDALL_VULKAN_SYNC_VALIDATION");
-    if (!sync || std::strcmp(sync, "0") != 0)
-        enabled.push_back(VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT);
+    syncValidation_ = validation_ && (!sync || std::strcmp(sync, "0") != 0);
+    std::vector<VkValidationFeatureEnableEXT> enabled;
+    if (syncValidation_) enabled.push_back(VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT);
     const char* practices = std::getenv("TYNDALL_VULKAN_BEST_PRACTICES");
     if (practices && std::strcmp(practices, "0") != 0)
         enabled.push_back(VK_VALIDATION_FEATURE_ENABLE_BEST_PRACTICES_EXT);
-    syncValidation_ =
-        validation_ && !enabled.empty() && enabled[0] == VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
     VkDebugUtilsMessengerCreateInfoEXT messengerInfo{};
     messengerInfo.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
     messengerInfo.messageSeverity =
