@@ -1,7 +1,8 @@
 // libFuzzer target: an image file as `tyndall compare` reads it (readLinearExr for .exr, readImage as the studio opens
 // any other image, then the metrics and a difference image against itself). The bytes are written to a file of this
-// process (OpenImageIO reads files) with the extension of the first byte's choice: even .exr, odd .png. InputError is
-// the expected answer; anything else escaping is a finding. Seeds include a PNG named .exr and an EXR with a NaN.
+// process (OpenEXR and libpng read files) with the extension of the first byte's choice: even .exr, odd .png.
+// InputError is the expected answer; anything else escaping is a finding. Seeds include a PNG named .exr and an EXR
+// with a NaN.
 #include "tyndall/core/error.h"
 #include "tyndall/image/image_io.h"
 #include "tyndall/image/metrics.h"

@@ -3,11 +3,52 @@
 #include "tyndall/core/error.h"
 #include "tyndall/image/image_io.h"
 
+#include <OpenImageIO/imageio.h>
+
 #include <QFileInfo>
+
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
 
 namespace tyndall::studio {
 
 namespace {
+
+// The formats beyond the library's EXR and PNG (HDR, PFM, JPEG, TIFF, BMP, TGA), through OpenImageIO: the first
+// subimage, every channel as float. Bounded as the library's reader is (2^28 values, 64 channels).
+Image readOtherFormat(const std::string& path) {
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    const auto failed = [&](const std::string& local) {
+        const std::string global = OIIO::geterror();
+        const std::string reason = !local.empty() ? local : !global.empty() ? global : "unknown OpenImageIO error";
+        return InputError(InputLocation{.file = path}, "cannot read image: " + reason);
+    };
+    if (!in) throw failed("");
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.deep || spec.depth > 1)
+        throw InputError(InputLocation{.file = path}, "cannot read image: deep or volume images are not supported");
+    constexpr std::int64_t kMaxValues = std::int64_t(1) << 28;
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.nchannels > 64 ||
+        std::int64_t(spec.width) * spec.height * spec.nchannels > kMaxValues)
+        throw InputError(InputLocation{.file = path}, "cannot read image: " + std::to_string(spec.width) + " x " +
+                                                          std::to_string(spec.height) + " pixels of " +
+                                                          std::to_string(spec.nchannels) +
+                                                          " channels; at most 2^28 values and 64 channels are read");
+    std::vector<std::string> names;
+    for (int c = 0; c < spec.nchannels; ++c) {
+        std::string name = c < int(spec.channelnames.size()) ? spec.channelnames[std::size_t(c)] : "";
+        if (name.empty() || std::find(names.begin(), names.end(), name) != names.end())
+            name = "channel" + std::to_string(c);
+        names.push_back(name);
+    }
+    Image image(spec.width, spec.height, names);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data())) throw failed(in->geterror());
+    return image;
+}
+
 // Extensions of formats that store linear float values; every other image format stores display values.
 bool linearFormat(const QString& suffix) {
     return suffix == "exr" || suffix == "hdr" || suffix == "pfm";
@@ -23,7 +64,9 @@ ImageFile readImageFile(const QString& path) {
     const QString suffix = QFileInfo(path).suffix().toLower();
     if (!isImageFile(path))
         throw InputError(path.toStdString() + ": not an image the studio opens (EXR, HDR, PFM, PNG, JPEG, TIFF, BMP, TGA)");
-    const Image source = readImage(path.toStdString());  // InputError naming the path when missing or unreadable
+    // InputError naming the path when missing or unreadable.
+    const Image source =
+        suffix == "exr" || suffix == "png" ? readImage(path.toStdString()) : readOtherFormat(path.toStdString());
     if (source.width() <= 0 || source.height() <= 0 || source.channelCount() <= 0)
         throw InputError(path.toStdString() + ": the image has no pixels");
     int channels[3] = {0, 0, 0};

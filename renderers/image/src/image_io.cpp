@@ -3,20 +3,35 @@
 #include "tyndall/core/error.h"
 #include "tyndall/core/output.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfIO.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfStringAttribute.h>
+#include <ImfTestFile.h>
+#include <ImfThreading.h>
+#include <png.h>
 
 #include <algorithm>
-#include <atomic>
+#include <array>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <csetjmp>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <exception>
 #include <filesystem>
+#include <fstream>
 #include <memory>
-#include <random>
+#include <mutex>
 #include <set>
 #include <sstream>
 #include <system_error>
+#include <thread>
 #include <vector>
 
 namespace tyndall {
@@ -26,12 +41,13 @@ namespace fs = std::filesystem;
 namespace {
 
 // Metadata keys are stored in EXR headers as "tyndall:KEY", so that a key such as "compression" cannot collide with a
-// standard attribute, and so that reading keeps our entries apart from what OIIO and other tools add.
+// standard attribute, and so that reading keeps our entries apart from what other tools add.
 constexpr std::string_view kMetadataPrefix = "tyndall:";
-// OIIO's EXR writer drops empty string attributes, so an empty value is recorded as "tyndallEmpty:KEY" instead.
+// Files written through OpenImageIO (before 0.1.0) recorded an empty value as "tyndallEmpty:KEY", as its EXR writer
+// dropped empty strings; such files are still read.
 constexpr std::string_view kEmptyMetadataPrefix = "tyndallEmpty:";
 
-// OpenEXR stores channels sorted by name and OIIO reorders them on reading; this attribute restores our order.
+// OpenEXR stores channels sorted by name; this attribute restores our order.
 constexpr const char* kChannelOrderAttribute = "tyndallChannelOrder";
 
 enum class Format { Exr, Png };
@@ -54,13 +70,6 @@ InputError readError(const std::string& path, const std::string& reason) {
     return InputError(InputLocation{.file = path}, "cannot read image: " + reason);
 }
 
-// OIIO keeps a per-thread error message besides the one on each ImageInput/ImageOutput; take whichever is set.
-std::string oiioError(const std::string& local) {
-    std::string global = OIIO::geterror();
-    std::string message = !local.empty() ? local : global;
-    return message.empty() ? std::string("unknown OpenImageIO error") : message;
-}
-
 Format formatOf(const std::string& path) {
     const std::string ext = lowercase(fs::path(path).extension().string());
     if (ext == ".exr") return Format::Exr;
@@ -69,23 +78,60 @@ Format formatOf(const std::string& path) {
                                                       fs::path(path).extension().string() + "\"; allowed: .exr, .png");
 }
 
-OIIO::ImageSpec exrSpec(const Image& image) {
-    OIIO::ImageSpec spec(image.width(), image.height(), image.channelCount(), OIIO::TypeDesc::FLOAT);
-    spec.channelnames = image.channels();
-    spec.alpha_channel = -1;  // an "A" channel, if any, is data like any other: no premultiplication assumptions
-    spec.attribute("compression", "zip");
-    std::string order;
-    for (const std::string& name : image.channels())
-        order += (order.empty() ? "" : ",") + name;
-    spec.attribute(kChannelOrderAttribute, order);
-    for (const auto& [key, value] : image.metadata) {
-        if (value.empty()) {
-            spec.attribute(std::string(kEmptyMetadataPrefix) + key, "1");
-        } else {
-            spec.attribute(std::string(kMetadataPrefix) + key, value);
-        }
+// OpenEXR compresses and decompresses blocks of scanlines on its global thread pool; set up once, on first use.
+void useExrThreads() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        Imf::setGlobalThreadCount(static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u)));
+    });
+}
+
+// An OpenEXR output stream into memory, so that the file itself is written by writeFileAtomically with every step
+// checked and synced. OpenEXR seeks back to patch its line-offset table, hence the position.
+class MemoryExrStream final : public Imf::OStream {
+public:
+    explicit MemoryExrStream(std::string& bytes) : Imf::OStream("memory"), bytes_(bytes) {}
+    void write(const char c[], int n) override {
+        const std::size_t end = position_ + static_cast<std::size_t>(n);
+        if (end > bytes_.size()) bytes_.resize(end);
+        std::memcpy(bytes_.data() + position_, c, static_cast<std::size_t>(n));
+        position_ = end;
     }
-    return spec;
+    std::uint64_t tellp() override { return position_; }
+    void seekp(std::uint64_t position) override { position_ = static_cast<std::size_t>(position); }
+
+private:
+    std::string& bytes_;
+    std::size_t position_ = 0;
+};
+
+std::string encodeExr(const Image& image) {
+    useExrThreads();
+    Imf::Header header(image.width(), image.height());
+    header.compression() = Imf::ZIP_COMPRESSION;
+    std::string order;
+    for (const std::string& name : image.channels()) {
+        header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+        order += (order.empty() ? "" : ",") + name;
+    }
+    header.insert(kChannelOrderAttribute, Imf::StringAttribute(order));
+    for (const auto& [key, value] : image.metadata)
+        header.insert(std::string(kMetadataPrefix) + key, Imf::StringAttribute(value));
+
+    const std::size_t pixelStride = sizeof(float) * static_cast<std::size_t>(image.channelCount());
+    Imf::FrameBuffer frame;
+    for (int c = 0; c < image.channelCount(); ++c) {
+        // OpenEXR's slices take a mutable pointer for reading and writing alike; writing only reads through it.
+        char* base = reinterpret_cast<char*>(const_cast<float*>(image.data() + c));
+        frame.insert(image.channels()[std::size_t(c)],
+                     Imf::Slice(Imf::FLOAT, base, pixelStride, pixelStride * static_cast<std::size_t>(image.width())));
+    }
+    std::string bytes;
+    MemoryExrStream stream(bytes);
+    Imf::OutputFile file(stream, header, Imf::globalThreadCount());
+    file.setFrameBuffer(frame);
+    file.writePixels(image.height());
+    return bytes;
 }
 
 std::vector<std::uint8_t> pngPixels(const Image& image, double exposure, Tonemap op, const std::string& path) {
@@ -101,6 +147,24 @@ std::vector<std::uint8_t> pngPixels(const Image& image, double exposure, Tonemap
         const std::array<float, 3> d = tonemapRgb(p[0], p[1], p[2], exposure, op);
         for (int c = 0; c < 3; ++c) bytes[i + std::size_t(c)] = static_cast<std::uint8_t>(std::lround(d[std::size_t(c)] * 255.0f));
     }
+    return bytes;
+}
+
+// libpng's simplified API, which frees everything it allocated on every path.
+std::string encodePng(const Image& image, double exposure, Tonemap op, const std::string& path) {
+    const std::vector<std::uint8_t> pixels = pngPixels(image, exposure, op, path);
+    png_image png{};
+    png.version = PNG_IMAGE_VERSION;
+    png.width = static_cast<png_uint_32>(image.width());
+    png.height = static_cast<png_uint_32>(image.height());
+    png.format = PNG_FORMAT_RGB;  // 8-bit sRGB values: written with an sRGB chunk
+    png_alloc_size_t size = 0;
+    if (!png_image_write_to_memory(&png, nullptr, &size, 0, pixels.data(), 0, nullptr))
+        throw OutputError("cannot encode PNG: " + std::string(png.message));
+    std::string bytes(size, '\0');
+    if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, pixels.data(), 0, nullptr))
+        throw OutputError("cannot encode PNG: " + std::string(png.message));
+    bytes.resize(size);
     return bytes;
 }
 
@@ -121,38 +185,163 @@ std::vector<int> channelPermutation(const std::vector<std::string>& read, const 
     return permutation;
 }
 
+void checkSize(const std::string& path, std::int64_t width, std::int64_t height, std::int64_t channels) {
+    if (width <= 0 || height <= 0 || channels <= 0) throw readError(path, "the image is empty");
+    if (channels > kMaxReadChannels || width > kMaxReadValues || height > kMaxReadValues ||
+        width * height * channels > kMaxReadValues) {
+        throw readError(path, std::to_string(width) + " x " + std::to_string(height) + " pixels of " +
+                                  std::to_string(channels) + " channels; at most " + std::to_string(kMaxReadValues) +
+                                  " values (pixels x channels) and " + std::to_string(kMaxReadChannels) +
+                                  " channels are read");
+    }
+}
+
+// The data window of the first part, at full resolution (level 0 of a tiled file), every channel converted to float.
+Image readExr(const std::string& path) {
+    useExrThreads();
+    bool tiled = false, deep = false, multiPart = false;
+    if (!Imf::isOpenExrFile(path.c_str(), tiled, deep, multiPart)) throw readError(path, "not an OpenEXR file");
+    if (deep) throw readError(path, "deep images are not supported");
+    Imf::InputFile file(path.c_str(), Imf::globalThreadCount());
+    const Imf::Header& header = file.header();
+    const Imath::Box2i window = header.dataWindow();
+    const std::int64_t width = std::int64_t(window.max.x) - window.min.x + 1;
+    const std::int64_t height = std::int64_t(window.max.y) - window.min.y + 1;
+    std::vector<std::string> names;
+    for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+        if (it.channel().xSampling != 1 || it.channel().ySampling != 1) {
+            throw readError(path, "channel \"" + std::string(it.name()) + "\" is subsampled (" +
+                                      std::to_string(it.channel().xSampling) + " x " +
+                                      std::to_string(it.channel().ySampling) +
+                                      "); only full-resolution channels are read");
+        }
+        names.emplace_back(it.name());
+    }
+    checkSize(path, width, height, static_cast<std::int64_t>(names.size()));
+
+    Image image(static_cast<int>(width), static_cast<int>(height), names);
+    const std::size_t pixelStride = sizeof(float) * names.size();
+    Imf::FrameBuffer frame;
+    for (std::size_t c = 0; c < names.size(); ++c) {
+        frame.insert(names[c], Imf::Slice::Make(Imf::FLOAT, image.data() + c, window, pixelStride,
+                                                pixelStride * static_cast<std::size_t>(width)));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+
+    std::string order;
+    for (auto it = header.begin(); it != header.end(); ++it) {
+        const auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute());
+        if (!text) continue;
+        const std::string name = it.name();
+        if (name == kChannelOrderAttribute) {
+            order = text->value();
+        } else if (name.starts_with(kMetadataPrefix)) {
+            image.metadata[name.substr(kMetadataPrefix.size())] = text->value();
+        } else if (name.starts_with(kEmptyMetadataPrefix)) {
+            image.metadata[name.substr(kEmptyMetadataPrefix.size())] = "";
+        }
+    }
+    const std::vector<int> permutation = channelPermutation(names, order);
+    if (!permutation.empty() && !std::is_sorted(permutation.begin(), permutation.end())) {
+        std::vector<std::string> ordered;
+        for (int c : permutation)
+            ordered.push_back(names[std::size_t(c)]);
+        image = image.select(ordered);  // keeps the metadata
+    }
+    return image;
+}
+
+// libpng reports errors through a callback that must not return: it records the message and jumps back to readPng.
+struct PngRead {
+    png_structp png = nullptr;
+    png_infop info = nullptr;
+    std::FILE* file = nullptr;
+    std::string message;
+    ~PngRead() {
+        png_destroy_read_struct(&png, &info, nullptr);
+        if (file) std::fclose(file);
+    }
+};
+
+// Any PNG (grey, grey + alpha, RGB, RGBA, palette, 1 to 16 bits; transparency as alpha) as its stored values, v / 255
+// or v / 65535: channels Y, Y A, R G B or R G B A. The display transfer function is the caller's to undo.
+Image readPng(const std::string& path) {
+    // Everything that lives across setjmp is declared before it, so that a jump back skips no destructor.
+    PngRead read;
+    std::vector<std::uint8_t> bytes;
+    std::vector<png_bytep> rows;
+    Image image;
+    read.file = std::fopen(path.c_str(), "rb");
+    if (!read.file) throw readError(path, std::strerror(errno));
+    read.png = png_create_read_struct(
+        PNG_LIBPNG_VER_STRING, &read.message,
+        [](png_structp png, png_const_charp message) {
+            *static_cast<std::string*>(png_get_error_ptr(png)) = message;
+            png_longjmp(png, 1);
+        },
+        [](png_structp, png_const_charp) {});
+    if (!read.png) throw std::bad_alloc();
+    read.info = png_create_info_struct(read.png);
+    if (!read.info) throw std::bad_alloc();
+    if (setjmp(png_jmpbuf(read.png))) throw readError(path, "damaged PNG: " + read.message);
+    png_init_io(read.png, read.file);
+    png_read_info(read.png, read.info);
+    png_set_expand(read.png);  // palette to RGB, < 8 bits to 8, tRNS to alpha
+    if (png_get_bit_depth(read.png, read.info) == 16) png_set_swap(read.png);  // to this machine's byte order
+    png_read_update_info(read.png, read.info);
+    const std::int64_t width = png_get_image_width(read.png, read.info);
+    const std::int64_t height = png_get_image_height(read.png, read.info);
+    const int channels = png_get_channels(read.png, read.info);
+    const int depth = png_get_bit_depth(read.png, read.info);
+    checkSize(path, width, height, channels);
+    const std::size_t rowBytes = png_get_rowbytes(read.png, read.info);
+    bytes.resize(rowBytes * static_cast<std::size_t>(height));
+    rows.resize(static_cast<std::size_t>(height));
+    for (std::size_t y = 0; y < rows.size(); ++y)
+        rows[y] = bytes.data() + y * rowBytes;
+    png_read_image(read.png, rows.data());
+    png_read_end(read.png, nullptr);
+
+    static const std::vector<std::string> kNames[4] = {{"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+    image = Image(static_cast<int>(width), static_cast<int>(height), kNames[channels - 1]);
+    const std::size_t values = image.size();
+    if (depth == 16) {
+        for (std::size_t i = 0; i < values; ++i) {
+            std::uint16_t v;
+            std::memcpy(&v, bytes.data() + 2 * i, sizeof v);
+            image.data()[i] = static_cast<float>(v) / 65535.0f;
+        }
+    } else {
+        for (std::size_t i = 0; i < values; ++i)
+            image.data()[i] = static_cast<float>(bytes[i]) / 255.0f;
+    }
+    return image;
+}
+
+bool startsWith(const std::string& path, const std::string_view magic) {
+    std::ifstream in(path, std::ios::binary);
+    std::string head(magic.size(), '\0');
+    return in.read(head.data(), static_cast<std::streamsize>(head.size())) && head == magic;
+}
+
+constexpr std::string_view kExrMagic("\x76\x2f\x31\x01", 4);
+constexpr std::string_view kPngMagic("\x89PNG\r\n\x1a\n", 8);
+
 }  // namespace
 
 std::string encodeImage(const Image& image, const std::string& path, double exposure, Tonemap op) {
     const Format format = formatOf(path);
     if (image.empty() || image.channelCount() == 0) throw writeError(path, "the image is empty");
-
-    OIIO::ImageSpec spec;
-    std::vector<std::uint8_t> bytes;
-    if (format == Format::Exr) {
-        spec = exrSpec(image);
-    } else {
-        bytes = pngPixels(image, exposure, op, path);
-        spec = OIIO::ImageSpec(image.width(), image.height(), 3, OIIO::TypeDesc::UINT8);
-        spec.attribute("oiio:ColorSpace", "sRGB");
+    try {
+        return format == Format::Exr ? encodeExr(image) : encodePng(image, exposure, op, path);
+    } catch (const InputError&) {
+        throw;
+    } catch (const OutputError&) {
+        throw;
+    } catch (const std::exception& e) {  // OpenEXR's exceptions (Iex::BaseExc), std::bad_alloc
+        throw OutputError("cannot encode '" + path + "': " + e.what());
     }
-
-    // Encoded in memory (OIIO's IOProxy), so that the file itself is written by writeFileAtomically with every step
-    // checked and synced.
-    std::vector<unsigned char> encoded;
-    OIIO::Filesystem::IOVecOutput proxy(encoded);
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
-    if (!out) throw OutputError("cannot encode '" + path + "': " + oiioError(""));
-    if (!out->supports("ioproxy") || !out->set_ioproxy(&proxy)) {
-        throw OutputError("cannot encode '" + path + "': OpenImageIO's writer cannot write to memory");
-    }
-    if (!out->open(path, spec)) throw OutputError("cannot encode '" + path + "': " + oiioError(out->geterror()));
-    const bool written = format == Format::Exr ? out->write_image(OIIO::TypeDesc::FLOAT, image.data())
-                                               : out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
-    const std::string reason = written ? std::string() : oiioError(out->geterror());
-    if (!out->close() && written) throw OutputError("cannot encode '" + path + "': " + oiioError(out->geterror()));
-    if (!written) throw OutputError("cannot encode '" + path + "': " + reason);
-    return std::string(encoded.begin(), encoded.end());
 }
 
 void writeImage(const Image& image, const std::string& path, double exposure, Tonemap op) {
@@ -167,64 +356,31 @@ void writeImage(const Image& image, const std::string& path, double exposure, To
 namespace {
 
 // readImage; with `openExrAs` (the field that named the file) the file must hold an OpenEXR image, whatever its name.
+// The format is decided by the file's first bytes, not its name.
 Image readImageFile(const std::string& path, const std::string* openExrAs) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw readError(path, "no such file");
     if (!fs::is_regular_file(path, ec)) throw readError(path, "not a regular file");
 
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
-    if (!in) throw readError(path, oiioError(""));
-    if (openExrAs && std::string(in->format_name()) != "openexr") {
+    const bool exr = startsWith(path, kExrMagic), png = !exr && startsWith(path, kPngMagic);
+    if (openExrAs && !exr) {
         // By its content too: a PNG renamed .exr is still display values.
         throw InputError(InputLocation{.file = path, .field = *openExrAs},
-                         "is named .exr but holds a " + std::string(in->format_name()) +
-                             " image; metrics need an OpenEXR image of linear values");
+                         std::string("is named .exr but holds ") + (png ? "a png image" : "no OpenEXR image") +
+                             "; metrics need an OpenEXR image of linear values");
     }
-    const OIIO::ImageSpec& spec = in->spec();
-    if (spec.deep) throw readError(path, "deep images are not supported");
-    if (spec.depth > 1) throw readError(path, "volume images are not supported");
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw readError(path, "the image is empty");
-    if (spec.nchannels > kMaxReadChannels ||
-        static_cast<std::int64_t>(spec.width) * spec.height * spec.nchannels > kMaxReadValues) {
-        throw readError(path, std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels of " +
-                                  std::to_string(spec.nchannels) + " channels; at most " +
-                                  std::to_string(kMaxReadValues) + " values (pixels x channels) and " +
-                                  std::to_string(kMaxReadChannels) + " channels are read");
+    if (!exr && !png) {
+        throw readError(path,
+                        "neither an OpenEXR nor a PNG file (the library reads those two; the studio also opens "
+                        "HDR, PFM, JPEG, TIFF, BMP and TGA)");
     }
-
-    std::vector<std::string> names = spec.channelnames;
-    names.resize(spec.nchannels);
-    std::set<std::string> seen;
-    for (std::size_t c = 0; c < names.size(); ++c) {
-        if (names[c].empty()) names[c] = "channel" + std::to_string(c);
-        if (!seen.insert(names[c]).second) throw readError(path, "duplicate channel \"" + names[c] + "\"");
+    try {
+        return exr ? readExr(path) : readPng(path);
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& e) {  // OpenEXR's exceptions for a damaged file (Iex::BaseExc), std::bad_alloc
+        throw readError(path, e.what());
     }
-
-    // The data window of the first subimage, at full resolution. Every channel is converted to float.
-    Image image(spec.width, spec.height, names);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data())) {
-        throw readError(path, oiioError(in->geterror()));
-    }
-
-    const std::vector<int> permutation = channelPermutation(names, spec.get_string_attribute(kChannelOrderAttribute));
-    if (!permutation.empty() && !std::is_sorted(permutation.begin(), permutation.end())) {
-        std::vector<std::string> ordered;
-        for (int c : permutation)
-            ordered.push_back(names[c]);
-        image = image.select(ordered);
-    }
-
-    for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
-        const std::string name = attribute.name().string();
-        if (attribute.type() != OIIO::TypeDesc::STRING) continue;
-        if (name.starts_with(kMetadataPrefix)) {
-            image.metadata[name.substr(kMetadataPrefix.size())] = attribute.get_string();
-        } else if (name.starts_with(kEmptyMetadataPrefix)) {
-            image.metadata[name.substr(kEmptyMetadataPrefix.size())] = "";
-        }
-    }
-    in->close();
-    return image;
 }
 
 }  // namespace

@@ -6,11 +6,18 @@
 #include "tyndall/image/metrics.h"
 #include "tyndall/image/tonemap.h"
 
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+#include <ImfTiledOutputFile.h>
 #include <gtest/gtest.h>
+#include <png.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -39,7 +46,7 @@ std::vector<std::string> filesIn(const fs::path& dir) {
     return names;
 }
 
-// The 8-bit value a PNG holds, from readImage's float (OIIO converts 8-bit v to v / 255).
+// The 8-bit value a PNG holds, from readImage's float (stored values v are read as v / 255).
 int byteOf(float value) {
     return static_cast<int>(std::lround(value * 255.0f));
 }
@@ -288,6 +295,128 @@ TEST(ImageIo, MissingOrUnreadableInputNamesThePath) {
     } catch (const InputError& e) {
         EXPECT_EQ(e.where().file, garbage.string());
     }
+}
+
+// Files written by other programs: OpenEXR's own writer (half floats, tiles, a data window away from the origin,
+// unsorted channel names) and libpng's (grey, 16 bits, alpha).
+TEST(ImageIo, ReadsTiledHalfExrWithAnOffsetDataWindow) {
+    const fs::path path = testDirectory("tiled_half") / "tiled.exr";
+    const Imath::Box2i display({0, 0}, {9, 9}), window({3, 2}, {7, 4});  // 5 x 3 pixels at (3, 2)
+    Imf::Header header(display, window);
+    header.channels().insert("Z", Imf::Channel(Imf::HALF));
+    header.channels().insert("A", Imf::Channel(Imf::HALF));
+    header.setTileDescription(Imf::TileDescription(2, 2));
+    std::vector<half> z(15), a(15);
+    for (int i = 0; i < 15; ++i) {
+        z[std::size_t(i)] = half(0.25f * float(i));
+        a[std::size_t(i)] = half(-1.0f - float(i));
+    }
+    Imf::FrameBuffer frame;
+    frame.insert("Z", Imf::Slice::Make(Imf::HALF, z.data(), window));
+    frame.insert("A", Imf::Slice::Make(Imf::HALF, a.data(), window));
+    {
+        Imf::TiledOutputFile file(path.c_str(), header);
+        file.setFrameBuffer(frame);
+        file.writeTiles(0, file.numXTiles() - 1, 0, file.numYTiles() - 1);
+    }
+    const Image read = readImage(path.string());
+    ASSERT_EQ(read.width(), 5);
+    ASSERT_EQ(read.height(), 3);
+    ASSERT_EQ(read.channels(), (std::vector<std::string>{"A", "Z"}));  // the file's (sorted) order: no order recorded
+    for (int i = 0; i < 15; ++i) {
+        EXPECT_EQ(read.at(i % 5, i / 5, 1), 0.25f * float(i)) << i;
+        EXPECT_EQ(read.at(i % 5, i / 5, 0), -1.0f - float(i)) << i;
+    }
+}
+
+TEST(ImageIo, RefusesSubsampledAndOversizedExr) {
+    const fs::path dir = testDirectory("refused_exr");
+    {
+        Imf::Header header(4, 4);
+        header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+        header.channels().insert("BY", Imf::Channel(Imf::FLOAT, 2, 2));
+        std::vector<float> y(16), by(4);
+        Imf::FrameBuffer frame;
+        frame.insert("Y", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(y.data()), 4, 16));
+        frame.insert("BY", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(by.data()), 4, 8, 2, 2));
+        Imf::OutputFile file((dir / "subsampled.exr").c_str(), header);
+        file.setFrameBuffer(frame);
+        file.writePixels(4);
+    }
+    {
+        // A header that asks for 2^32 pixels; no pixel is written, and none must be allocated on reading.
+        Imf::Header header(65536, 65536);
+        header.channels().insert("Y", Imf::Channel(Imf::HALF));
+        Imf::OutputFile file((dir / "huge.exr").c_str(), header);
+    }
+    const auto refusal = [](const fs::path& path) {
+        try {
+            (void)readImage(path.string());
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.where().file, path.string());
+            return std::string(e.what());
+        }
+        return std::string("(read)");
+    };
+    EXPECT_NE(refusal(dir / "subsampled.exr").find("channel \"BY\" is subsampled"), std::string::npos)
+        << refusal(dir / "subsampled.exr");
+    EXPECT_NE(refusal(dir / "huge.exr").find("65536 x 65536 pixels of 1 channels; at most 268435456 values"),
+              std::string::npos)
+        << refusal(dir / "huge.exr");
+}
+
+TEST(ImageIo, ReadsGreyAndSixteenBitPngs) {
+    const fs::path dir = testDirectory("png_formats");
+    const auto writePng = [&](const std::string& name, png_uint_32 format, const void* pixels) {
+        png_image png{};
+        png.version = PNG_IMAGE_VERSION;
+        png.width = 3;
+        png.height = 2;
+        png.format = format;
+        ASSERT_TRUE(png_image_write_to_file(&png, (dir / name).c_str(), 0, pixels, 0, nullptr)) << png.message;
+    };
+    const std::uint8_t grey[6] = {0, 51, 102, 153, 204, 255};
+    writePng("grey.png", PNG_FORMAT_GRAY, grey);
+    const Image g = readImage((dir / "grey.png").string());
+    ASSERT_EQ(g.channels(), std::vector<std::string>{"Y"});
+    for (int i = 0; i < 6; ++i)
+        EXPECT_EQ(byteOf(g.at(i % 3, i / 3, 0)), grey[i]);
+
+    // 16 bits with alpha: the stored values / 65535, as they are (whatever transfer function the file declares).
+    std::vector<std::uint16_t> rgba(24);
+    for (std::size_t i = 0; i < rgba.size(); ++i)
+        rgba[i] = static_cast<std::uint16_t>(i % 4 == 3 ? 65535 : i * 2000);
+    writePng("rgba16.png", PNG_FORMAT_LINEAR_RGB_ALPHA, rgba.data());
+    const Image c = readImage((dir / "rgba16.png").string());
+    ASSERT_EQ(c.channels(), (std::vector<std::string>{"R", "G", "B", "A"}));
+    for (int p = 0; p < 6; ++p) {
+        EXPECT_EQ(c.at(p % 3, p / 3, 3), 1.0f);
+        for (int ch = 0; ch < 3; ++ch)
+            EXPECT_EQ(c.at(p % 3, p / 3, ch), float(rgba[std::size_t(4 * p + ch)]) / 65535.0f) << p << " " << ch;
+    }
+}
+
+TEST(ImageIo, TellsFormatsByContentAndNamesOtherFiles) {
+    const fs::path dir = testDirectory("by_content");
+    Image image = Image::rgb(3, 2);
+    image.at(2, 1, 0) = 0.5f;
+    writeImage(image, (dir / "real.exr").string());
+    fs::copy_file(dir / "real.exr", dir / "named.png");  // an EXR named .png is read as the EXR it is
+    EXPECT_EQ(readImage((dir / "named.png").string()).at(2, 1, 0), 0.5f);
+
+    std::ofstream(dir / "photo.jpg", std::ios::binary) << std::string("\xff\xd8\xff\xe0\x00\x10JFIF", 10);
+    try {
+        (void)readImage((dir / "photo.jpg").string());
+        FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.where().file, (dir / "photo.jpg").string());
+        EXPECT_NE(std::string(e.what()).find("neither an OpenEXR nor a PNG file"), std::string::npos) << e.what();
+    }
+    // A damaged EXR (its pixels cut off): OpenEXR's error, with the path.
+    std::ifstream in(dir / "real.exr", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(dir / "cut.exr", std::ios::binary) << bytes.substr(0, bytes.size() - 20);
+    EXPECT_THROW((void)readImage((dir / "cut.exr").string()), InputError);
 }
 
 }  // namespace

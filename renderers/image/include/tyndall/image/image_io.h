@@ -1,5 +1,7 @@
-// Reading and writing images through OpenImageIO: EXR (all float channels and the metadata) and PNG (exposure, then
-// sRGB encoding, clamped to [0, 1]).
+// Reading and writing images: EXR through OpenEXR (all float channels and the metadata) and PNG through libpng
+// (exposure, then the display transform, 8 bits). The library needs nothing more, so that the CLI, the GPU tests and
+// the bundle (packaging/bundle.sh) carry no OpenImageIO; the studio opens other formats through it
+// (studio/core/image_file.h).
 #pragma once
 
 #include "tyndall/image/image.h"
@@ -18,8 +20,9 @@ void writeImage(const Image& image, const std::string& path, double exposure = 0
 // several outputs must appear together.
 std::string encodeImage(const Image& image, const std::string& path, double exposure = 0.0, Tonemap op = Tonemap::Srgb);
 
-// Reads an EXR (every channel, every string metadata attribute) or any format OIIO reads (as float). Throws InputError
-// naming the path for a missing or unreadable file.
+// Reads an OpenEXR file (the data window of its first part; every channel as float, every string metadata attribute)
+// or a PNG (stored values / 255; channels Y, Y A, R G B or R G B A), told apart by their first bytes. Throws
+// InputError naming the path for a missing, unreadable, damaged or other file.
 Image readImage(const std::string& path);
 
 // An input of metrics (`tyndall compare`, `probe`): an OpenEXR image by name and by content, every value finite. An
