@@ -14,6 +14,7 @@
 #include "tyndall/techniques/registry.h"
 
 #include "../renderers/testing/technique_gpu_test.h"
+#include "../renderers/testing/test_paths.h"
 
 #include <gtest/gtest.h>
 
@@ -31,7 +32,7 @@ namespace fs = std::filesystem;
 
 std::vector<std::string> bundledProjects() {
     std::vector<std::string> paths;
-    for (const auto& entry : fs::recursive_directory_iterator(fs::path(TYNDALL_SOURCE_DIR) / "projects"))
+    for (const auto& entry : fs::recursive_directory_iterator(fs::path(tyndall::test::sourceDir()) / "projects"))
         if (entry.path().extension() == ".json" && !entry.path().filename().string().ends_with(".sweep.json"))
             paths.push_back(entry.path().string());  // projects, not sweep specs (projects/sweeps)
     std::sort(paths.begin(), paths.end());
@@ -155,7 +156,7 @@ TEST_F(PrimaryHitsTest, RasterMatchesTracedHitsOnEveryBundledProject) {
 // A camera inside the geometry and looking along a wall: triangles behind the camera plane are clipped, and grazing
 // hits resolve like traced ones.
 TEST_F(PrimaryHitsTest, ACameraInsideTheSceneAndGrazingWalls) {
-    const std::string path = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/ltsd-room.json";
+    const std::string path = tyndall::test::sourceDir() + "/projects/examples/ltsd-room.json";
     const Project project = loadProject(techniqueCatalogue(), path);
     const GpuSurfaces surfaces = prepareGpuSurfaces(project.scene, fs::path(path).parent_path().string());
     ASSERT_GT(surfaces.triangleCount, 0u);

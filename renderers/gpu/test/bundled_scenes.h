@@ -2,6 +2,7 @@
 // compare GPU visibility with Embree on real scenes.
 #pragma once
 
+#include "test_paths.h"
 #include "tyndall/core/geometry.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
@@ -21,7 +22,7 @@ struct BundledScene {
 inline std::vector<BundledScene> bundledScenes() {
     std::vector<std::filesystem::path> paths;
     for (const char* folder : {"/projects", "/projects/examples"})
-        for (const auto& entry : std::filesystem::directory_iterator(std::string(TYNDALL_SOURCE_DIR) + folder))
+        for (const auto& entry : std::filesystem::directory_iterator(tyndall::test::sourceDir() + folder))
             if (entry.is_regular_file() && entry.path().extension() == ".json") paths.push_back(entry.path());
     std::sort(paths.begin(), paths.end());
     std::vector<BundledScene> scenes;

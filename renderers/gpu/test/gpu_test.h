@@ -2,6 +2,7 @@
 // reported no error.
 #pragma once
 
+#include "test_paths.h"
 #include "tyndall/gpu/context.h"
 
 #include <gtest/gtest.h>
@@ -37,7 +38,7 @@ private:
 };
 
 inline std::vector<std::uint32_t> loadSpirv(const std::string& name) {
-    std::ifstream in(std::string(TYNDALL_GPU_TEST_SPIRV) + "/" + name + ".spv", std::ios::binary);
+    std::ifstream in(tyndall::test::spirvDir() + "/" + name + ".spv", std::ios::binary);
     std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
     std::vector<std::uint32_t> words(bytes.size() / 4);
     std::memcpy(words.data(), bytes.data(), words.size() * 4);

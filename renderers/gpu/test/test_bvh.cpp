@@ -5,6 +5,7 @@
 
 #include "bundled_scenes.h"
 #include "gpu_test.h"
+#include "test_paths.h"
 #include "visibility_helpers.h"
 
 #include "shared/rng.h"
@@ -334,9 +335,8 @@ void main() {
 class BvhGpu : public test::GpuTest {};
 
 TEST_F(BvhGpu, GlslTraversalAgreesWithCpp) {
-    CompileResult compiled =
-        compileGlslSource(kTraceShader, std::string(TYNDALL_SOURCE_DIR) + "/renderers/gpu/test/bvh_trace.comp.glsl",
-                          ShaderStage::Compute);
+    CompileResult compiled = compileGlslSource(
+        kTraceShader, tyndall::test::sourceDir() + "/renderers/gpu/test/bvh_trace.comp.glsl", ShaderStage::Compute);
     ASSERT_TRUE(compiled.ok) << compiled.log;
     // Every bundled project's geometry, 2^17 rays each, against the C++ side of the same code and against Embree.
     for (const BundledScene& scene : bundledScenes()) {

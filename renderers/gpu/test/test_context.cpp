@@ -1,5 +1,6 @@
 #include "gpu_test.h"
 
+#include "test_paths.h"
 #include "tyndall/gpu/resources.h"
 
 #include <sys/wait.h>
@@ -148,8 +149,8 @@ TEST(GpuValidation, AnErrorFailsTheTestThatCausedIt) {
         createBufferOfSizeZero(context);
         return;
     }
-    const std::string command = "TYNDALL_PROVOKE_VALIDATION_ERROR=1 /proc/" + std::to_string(::getpid()) +
-                                "/exe --gtest_filter=GpuValidation.AnErrorFailsTheTestThatCausedIt 2>&1";
+    const std::string command = "TYNDALL_PROVOKE_VALIDATION_ERROR=1 " + tyndall::test::selfCommand() +
+                                " --gtest_filter=GpuValidation.AnErrorFailsTheTestThatCausedIt 2>&1";
     FILE* pipe = ::popen(command.c_str(), "r");
     ASSERT_NE(pipe, nullptr);
     std::string output;

@@ -1,5 +1,6 @@
 #include "gpu_test.h"
 
+#include "test_paths.h"
 #include "tyndall/gpu/graphics.h"
 #include "tyndall/gpu/hot_reload.h"
 #include "tyndall/gpu/slicer.h"
@@ -341,7 +342,7 @@ TEST_F(GraphicsTest, SlicedDrawEqualsOneDrawBitForBit) {
 }
 
 TEST_F(GraphicsTest, PipelineRebuildsFromAReloadedStage) {
-    const std::filesystem::path dir = std::filesystem::path(TYNDALL_TEST_TMP) / "graphics_hot_reload";
+    const std::filesystem::path dir = std::filesystem::path(tyndall::test::scratchDir()) / "graphics_hot_reload";
     std::filesystem::create_directories(dir);
     const std::filesystem::path shader = dir / "constant.frag.glsl";
     auto write = [&](const char* value) {

@@ -13,6 +13,7 @@
 
 #include "gpu_test.h"
 #include "shared/phase.h"
+#include "test_paths.h"
 #include "tyndall/gpu/hot_reload.h"
 #include "tyndall/gpu/resources.h"
 
@@ -26,7 +27,7 @@ constexpr std::uint32_t kSpirv15 = 0x00010500;
 
 // A fresh folder per test under TYNDALL_TEST_TMP.
 fs::path scratchDir(const std::string& name) {
-    fs::path dir = fs::path(TYNDALL_TEST_TMP) / "shader_compiler" / name;
+    fs::path dir = fs::path(tyndall::test::scratchDir()) / "shader_compiler" / name;
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;
@@ -78,7 +79,7 @@ TEST(ShaderCompiler, InfersTheStageFromTheFileName) {
 }
 
 TEST(ShaderCompiler, CompilesAComputeShaderThatIncludesSharedHeaders) {
-    const fs::path shader = fs::path(TYNDALL_SOURCE_DIR) / "shaders/test/phase_eval.comp.glsl";
+    const fs::path shader = fs::path(tyndall::test::sourceDir()) / "shaders/test/phase_eval.comp.glsl";
     CompileResult result = compileGlsl(shader);
     ASSERT_TRUE(result.ok) << result.log;
     EXPECT_FALSE(result.error.has_value());
@@ -86,7 +87,7 @@ TEST(ShaderCompiler, CompilesAComputeShaderThatIncludesSharedHeaders) {
     EXPECT_EQ(result.spirv[0], kSpirvMagic);
     EXPECT_EQ(result.spirv[1], kSpirv15) << "Vulkan 1.2 targets SPIR-V 1.5";
 
-    const fs::path shared = fs::path(TYNDALL_SOURCE_DIR) / "shaders/shared";
+    const fs::path shared = fs::path(tyndall::test::sourceDir()) / "shaders/shared";
     EXPECT_TRUE(contains(result.dependencies, shader));
     for (const char* header : {"phase.h", "compat.h", "constants.h", "sampling.h"}) {
         EXPECT_TRUE(contains(result.dependencies, shared / header)) << header << " is a dependency";
@@ -170,11 +171,11 @@ TEST(ShaderCompiler, IncludeDirectoriesAreSearchedAfterTheIncludingFolder) {
               "layout(std430, binding = 0) buffer Out { float v; };\n"
               "void main() { v = kScale * kLocal; }\n");
     CompileResult result =
-        compileGlsl(dir / "local/main.comp.glsl", {dir / "extra", fs::path(TYNDALL_SOURCE_DIR) / "shaders"});
+        compileGlsl(dir / "local/main.comp.glsl", {dir / "extra", fs::path(tyndall::test::sourceDir()) / "shaders"});
     ASSERT_TRUE(result.ok) << result.log;
     EXPECT_TRUE(contains(result.dependencies, dir / "extra/scale.h"));
     EXPECT_TRUE(contains(result.dependencies, dir / "local/shared/constants.h"));
-    EXPECT_TRUE(contains(result.dependencies, fs::path(TYNDALL_SOURCE_DIR) / "shaders/shared/compat.h"));
+    EXPECT_TRUE(contains(result.dependencies, fs::path(tyndall::test::sourceDir()) / "shaders/shared/compat.h"));
 }
 
 TEST(ShaderCompiler, AMissingIncludeIsAnErrorThatNamesIt) {
@@ -220,7 +221,7 @@ TEST(ShaderCompiler, ParsesTheFirstErrorOfAGlslangLog) {
 }
 
 TEST(ShaderCompiler, CompilesFromSeveralThreadsAtOnce) {
-    const fs::path shader = fs::path(TYNDALL_SOURCE_DIR) / "shaders/test/phase_eval.comp.glsl";
+    const fs::path shader = fs::path(tyndall::test::sourceDir()) / "shaders/test/phase_eval.comp.glsl";
     const std::vector<std::uint32_t> reference = compileGlsl(shader).spirv;
     ASSERT_FALSE(reference.empty());
     std::vector<std::vector<std::uint32_t>> results(4);
@@ -353,7 +354,7 @@ TEST_F(HotReloadGpu, TheReloadedKernelRunsAndTheBrokenOneKeepsTheLastGood) {
 
 TEST_F(HotReloadGpu, TheSharedPhaseFunctionAgreesWithItsCppSide) {
     const std::vector<std::uint32_t> spirv =
-        compileGlslOrThrow(fs::path(TYNDALL_SOURCE_DIR) / "shaders/test/phase_eval.comp.glsl");
+        compileGlslOrThrow(fs::path(tyndall::test::sourceDir()) / "shaders/test/phase_eval.comp.glsl");
     std::vector<float> mu;
     for (int i = 0; i <= 200; ++i)
         mu.push_back(-1.0f + 0.01f * static_cast<float>(i));

@@ -7,6 +7,7 @@
 #include "gpu_test.h"
 #include "visibility_helpers.h"
 
+#include "test_paths.h"
 #include "tyndall/core/geometry.h"
 #include "tyndall/gpu/resources.h"
 #include "tyndall/gpu/shader_compiler.h"
@@ -156,7 +157,7 @@ TEST_F(VisibilityTest, EmptyMeshListIsNeverOccluded) {
 TEST_F(VisibilityTest, RayQueryKernelCompiles) {
     // The ray-query backend's kernel compiles everywhere, though it runs only where the device has ray queries.
     CompileResult compiled =
-        compileGlsl(std::string(TYNDALL_SOURCE_DIR) + "/shaders/features/ray_query_visibility.comp.glsl");
+        compileGlsl(tyndall::test::sourceDir() + "/shaders/features/ray_query_visibility.comp.glsl");
     EXPECT_TRUE(compiled.ok) << compiled.log;
 }
 

@@ -8,6 +8,7 @@
 #include "isv/isv.h"
 #include "isv/prepared.h"
 
+#include "test_paths.h"
 #include "tyndall/core/error.h"
 #include "tyndall/core/geometry.h"
 #include "tyndall/framework/shader_params.h"
@@ -595,7 +596,7 @@ TEST(IsvAnimation, ImpulsePeakTimeIsWhenThePushedParticleIsFarthest) {
 }
 
 TEST(IsvAnimation, ProjectsStoreTheSimulationAndRefuseAnUnstableOne) {
-    const std::string base = std::string(TYNDALL_SOURCE_DIR) + "/projects/isv/smoke.json";
+    const std::string base = tyndall::test::sourceDir() + "/projects/isv/smoke.json";
     const Project p = loadProject(techniqueCatalogue(), base,
                                   {"particleMedia[0].simulation={\"steps\": 30, \"offset\": [0.2, 0, 0], "
                                    "\"impulses\": [{\"step\": 3, \"position\": [0, 1, 0]}]}"});

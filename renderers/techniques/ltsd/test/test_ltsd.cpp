@@ -6,6 +6,7 @@
 #include "ltsd/ltsd.h"
 #include "ltsd/prepared.h"
 
+#include "test_paths.h"
 #include "tyndall/core/error.h"
 #include "tyndall/image/metrics.h"
 #include "tyndall/project/project.h"
@@ -27,7 +28,7 @@ namespace {
 using shader::LtsdFrame;
 using shader::LtsdLight;
 
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/ltsd-room.json";
+const std::string kProject = tyndall::test::sourceDir() + "/projects/examples/ltsd-room.json";
 
 const LtsdTable& hgTable() {
     static const LtsdTable table = loadLtsdTable(ltsdTablePath("hg"));

@@ -8,6 +8,7 @@
 #include "pegoraro/prepared.h"
 #include "tyndall/framework/shader_params.h"
 
+#include "test_paths.h"
 #include "tyndall/core/error.h"
 #include "tyndall/gpu/context.h"
 #include "tyndall/gpu/harness.h"
@@ -21,7 +22,7 @@
 namespace tyndall::pegoraro::test {
 namespace {
 
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/pegoraro-street.json";
+const std::string kProject = tyndall::test::sourceDir() + "/projects/examples/pegoraro-street.json";
 
 Project loadExample(int width, int height, const std::vector<std::string>& overrides = {}) {
     std::vector<std::string> all = {"camera.width=" + std::to_string(width), "camera.height=" + std::to_string(height)};
@@ -301,7 +302,8 @@ sh::PegoraroPolynomial_double lightPolynomialOf(const sh::PegoraroLight& light) 
 TEST(PegoraroTechnique, ShadowedIntervalsMatchQuadratureWithVisibility) {
     const Project project = loadExample(64, 48);
     const Settings settings = settingsFrom(createTechnique("pegoraro")->defaultParams());
-    const PreparedScene scene = prepareScene(project.scene, settings, TYNDALL_SOURCE_DIR "/projects/examples");
+    const PreparedScene scene =
+        prepareScene(project.scene, settings, tyndall::test::sourceDir() + "/projects/examples");
     SceneScope scope(scene);
     const shader::PegoraroFrame& f = scene.frame;
     sh::Pcg32 rng = sh::pcg32Seed(8u, 8u);

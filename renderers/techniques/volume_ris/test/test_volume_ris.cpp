@@ -7,6 +7,7 @@
 #include "volume_ris/prepared.h"
 #include "volume_ris/volume_ris.h"
 
+#include "test_paths.h"
 #include "tyndall/core/error.h"
 #include "tyndall/core/geometry.h"
 #include "tyndall/image/metrics.h"
@@ -25,7 +26,7 @@ namespace {
 using tyndall::test::chiSquareTest;
 using tyndall::test::integrate;
 
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/volume-ris-shaft.json";
+const std::string kProject = tyndall::test::sourceDir() + "/projects/examples/volume-ris-shaft.json";
 
 Project loadShaft(int width, int height, const std::vector<std::string>& overrides = {}) {
     std::vector<std::string> all = {"camera.width=" + std::to_string(width), "camera.height=" + std::to_string(height)};

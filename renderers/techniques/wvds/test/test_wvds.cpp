@@ -7,6 +7,7 @@
 #include "wvds/prepared.h"
 #include "wvds/wvds.h"
 
+#include "test_paths.h"
 #include "tyndall/core/error.h"
 #include "tyndall/core/geometry.h"
 #include "tyndall/gpu/context.h"
@@ -25,8 +26,8 @@ namespace {
 using tyndall::test::chiSquareTest;
 using tyndall::test::integrate;
 
-const std::string kProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/examples/wvds-box.json";
-const std::string kDefaultProject = std::string(TYNDALL_SOURCE_DIR) + "/projects/default.json";
+const std::string kProject = tyndall::test::sourceDir() + "/projects/examples/wvds-box.json";
+const std::string kDefaultProject = tyndall::test::sourceDir() + "/projects/default.json";
 
 // A medium of planes bound for the shared accessors, without surfaces.
 struct BoundPlanes {
