@@ -82,6 +82,44 @@ TEST(Cli, InfoListsTheReferenceAndItsParameters) {
     EXPECT_NE(j.output.find("\"techniques\""), std::string::npos);
 }
 
+// The device's driver and features are listed; without any Vulkan driver (the loader pointed at none) everything else
+// is still printed, one line on stderr says why, and the exit status is 1 (issue 37: scripts check `tyndall info`).
+TEST(Cli, InfoNamesTheDriverAndExitsOneWithoutAVulkanDevice) {
+    // One stream of the CLI: "1" (stdout) or "2" (stderr), the other discarded.
+    const auto stream = [](const std::string& args, const std::string& which, const std::string& env = "") {
+        const std::string command =
+            env + std::string(TYNDALL_CLI) + " " + args + (which == "1" ? " 2>/dev/null" : " 2>&1 >/dev/null");
+        CliRun run;
+        FILE* pipe = popen(command.c_str(), "r");
+        std::array<char, 4096> buffer{};
+        while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe))
+            run.output.append(buffer.data(), n);
+        const int status = pclose(pipe);
+        run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        return run;
+    };
+    const CliRun j = stream("info --json", "1");
+    ASSERT_EQ(j.exitCode, 0) << j.output;
+    const nlohmann::json info = nlohmann::json::parse(j.output);
+    ASSERT_GE(info["devices"].size(), 2u) << j.output;
+    EXPECT_NE(info["devices"][1]["driver"].get<std::string>().find("llvmpipe"), std::string::npos) << j.output;
+    for (const char* feature : {"float64", "rayQuery", "meshShader", "geometryShader", "timestamps"})
+        EXPECT_TRUE(info["devices"][1].contains(feature)) << feature;
+
+    const std::string noDriver = "VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES= ";
+    const CliRun why = stream("info", "2", noDriver);
+    EXPECT_EQ(why.exitCode, 1) << why.output;
+    EXPECT_EQ(std::count(why.output.begin(), why.output.end(), '\n'), 1) << why.output;
+    EXPECT_NE(why.output.find("tyndall: no Vulkan device ("), std::string::npos) << why.output;
+    EXPECT_NE(why.output.find("views with device = auto render on the CPU"), std::string::npos) << why.output;
+    const CliRun listed = stream("info", "1", noDriver);
+    EXPECT_EQ(listed.exitCode, 1);
+    EXPECT_NE(listed.output.find("  ltsd - LTSD"), std::string::npos) << listed.output;
+    const CliRun json = stream("info --json", "1", noDriver);
+    EXPECT_EQ(json.exitCode, 1);
+    EXPECT_TRUE(nlohmann::json::parse(json.output).contains("vulkanError")) << json.output;
+}
+
 TEST(Cli, EveryBundledProjectValidates) {
     std::vector<std::string> projects = bundledProjects();
     ASSERT_FALSE(projects.empty());

@@ -544,6 +544,9 @@ int info(const InfoArgs& args) {
                                                        std::to_string(VK_API_VERSION_MINOR(d.apiVersion))},
                                         {"index", d.index},
                                         {"type", d.typeName()},
+                                        {"driver", d.driver},
+                                        {"timestamps", d.timestampPeriod > 0.0f},
+                                        {"geometryShader", d.geometryShader},
                                         {"float64", d.shaderFloat64},
                                         {"rayQuery", d.rayQuery},
                                         {"meshShader", d.meshShader},
@@ -551,8 +554,9 @@ int info(const InfoArgs& args) {
             }
         } catch (const gpu::GpuError& e) {
             vulkanProblem = e.what();
-            j["vulkanError"] = vulkanProblem;
         }
+        if (vulkanProblem.empty() && j["devices"].size() == 1) vulkanProblem = "the Vulkan loader found no device";
+        if (!vulkanProblem.empty()) j["vulkanError"] = vulkanProblem;
         j["techniques"] = nlohmann::json::array();
         for (const std::string& name : techniqueNames()) {
             auto technique = createTechnique(name);
@@ -572,9 +576,17 @@ int info(const InfoArgs& args) {
                 t["probes"].push_back({{"name", p.name}, {"doc", p.doc}});
             j["techniques"].push_back(t);
         }
+        // Without a Vulkan device the rest of the information is still printed, and the exit status says so (1), with
+        // one line on stderr: a script that needs a GPU checks `tyndall info`.
+        const auto finish = [&] {
+            if (vulkanProblem.empty()) return int(kOk);
+            std::fprintf(stderr, "tyndall: no Vulkan device (%s); views with device = auto render on the CPU\n",
+                         vulkanProblem.c_str());
+            return 1;
+        };
         if (args.json) {
             std::printf("%s\n", j.dump(2).c_str());
-            return int(kOk);
+            return finish();
         }
         std::printf("Tyndall %s\n\nDevices:\n  CPU, %d threads (reference)\n", tyndallVersion(),
                     tbb::info::default_concurrency());
@@ -599,7 +611,7 @@ int info(const InfoArgs& args) {
                 std::printf("      probe %-12s %s\n", p["name"].get<std::string>().c_str(),
                             p["doc"].get<std::string>().c_str());
         }
-        return int(kOk);
+        return finish();
     });
 }
 

@@ -476,6 +476,9 @@ int showStatus(const std::string& dir) {
 }  // namespace
 
 std::string selfExecutable() {
+    // The relocatable bundle runs the program through its own dynamic loader (/proc/self/exe is the loader there); its
+    // launcher names itself (packaging/bundle.sh).
+    if (const char* launcher = std::getenv("TYNDALL_EXECUTABLE"); launcher && *launcher) return launcher;
     std::error_code ec;
     const fs::path self = fs::read_symlink("/proc/self/exe", ec);
     if (ec) throw std::runtime_error("cannot find this program's path (/proc/self/exe): " + ec.message());

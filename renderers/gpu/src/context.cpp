@@ -92,6 +92,15 @@ std::vector<VkExtensionProperties> deviceExtensions(VkPhysicalDevice device) {
     return out;
 }
 
+// Fills one extension structure of the device's properties (its sType set by the caller).
+template <class Properties>
+void queryProperties(VkPhysicalDevice device, Properties& properties) {
+    VkPhysicalDeviceProperties2 props2{};
+    props2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+    props2.pNext = &properties;
+    vkGetPhysicalDeviceProperties2(device, &props2);
+}
+
 DeviceInfo describe(VkPhysicalDevice device, int index) {
     DeviceInfo info;
     info.index = index;
@@ -105,6 +114,12 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
     info.maxFramebufferWidth = props.limits.maxFramebufferWidth;
     info.maxFramebufferHeight = props.limits.maxFramebufferHeight;
     info.maxImageArrayLayers = props.limits.maxImageArrayLayers;
+    if (props.apiVersion >= VK_API_VERSION_1_2) {
+        VkPhysicalDeviceVulkan12Properties v12props{};
+        v12props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES;
+        queryProperties(device, v12props);
+        info.driver = std::string(v12props.driverName) + " " + v12props.driverInfo;
+    }
 
     uint32_t familyCount = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(device, &familyCount, nullptr);
@@ -151,10 +166,7 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
     if (info.meshShader) {
         VkPhysicalDeviceMeshShaderPropertiesEXT meshProps{};
         meshProps.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_PROPERTIES_EXT;
-        VkPhysicalDeviceProperties2 props2{};
-        props2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
-        props2.pNext = &meshProps;
-        vkGetPhysicalDeviceProperties2(device, &props2);
+        queryProperties(device, meshProps);
         info.maxMeshWorkGroups = std::min(meshProps.maxMeshWorkGroupCount[0], meshProps.maxMeshWorkGroupTotalCount);
     }
     return info;

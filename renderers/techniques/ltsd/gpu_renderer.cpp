@@ -125,6 +125,7 @@ GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, in
     out.deviceName = ctx.device().name;
     out.longestSliceMs = stats.longestMs;
     out.gpuMs = stats.totalMs + primary.gpuMs;
+    out.primaryHitsMs = primary.gpuMs;
     return out;
 }
 

@@ -22,6 +22,7 @@ struct GpuOutput {
     std::string deviceName;
     double longestSliceMs = 0.0;
     double gpuMs = 0.0;
+    double primaryHitsMs = 0.0;   // of gpuMs: the camera hits (raster or traced)
     double compileSeconds = 0.0;  // building the pipeline (0 when it was cached)
     // The analytic pass's camera hits: "raster", "traced: <why>" (framework/primary_hits.h); empty for the ratio pass.
     std::string primaryVisibility;

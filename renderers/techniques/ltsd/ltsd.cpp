@@ -198,6 +198,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
     std::vector<glm::vec4> terms, sums;
     std::string deviceName = "cpu";
     double longestSliceMs = 0.0, gpuMs = 0.0, compileSeconds = 0.0;
+    double primaryHitsMs = 0.0, ratioMs = 0.0;  // of gpuMs: the camera hits, the ratio estimators' pass
     std::string primaryVisibility;
     if (onGpu) {
         if (!gpu_) gpu_ = std::make_unique<ltsd::GpuRenderer>();
@@ -206,6 +207,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
         deviceName = g.deviceName;
         longestSliceMs = g.longestSliceMs;
         gpuMs = g.gpuMs;
+        primaryHitsMs = g.primaryHitsMs;
         compileSeconds = g.compileSeconds;
         primaryVisibility = g.primaryVisibility;
         if (shadows) {
@@ -213,6 +215,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
             sums = std::move(r.values);
             longestSliceMs = std::max(longestSliceMs, r.longestSliceMs);
             gpuMs += r.gpuMs;
+            ratioMs = r.gpuMs;
             compileSeconds += r.compileSeconds;
         }
     } else {
@@ -280,6 +283,10 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
     if (onGpu) {
         meta["gpu:longestSliceMs"] = formatShort(longestSliceMs);
         meta["gpu:totalMs"] = formatShort(gpuMs);
+        // Each pass's share (tyndall_gpu_frames_bench reports them): camera hits, the analytic air-light, the ratios.
+        meta["gpu:primaryHitsMs"] = formatShort(primaryHitsMs);
+        meta["gpu:airLightMs"] = formatShort(gpuMs - primaryHitsMs - ratioMs);
+        if (shadows) meta["gpu:ratioMs"] = formatShort(ratioMs);
         meta["gpu:compileSeconds"] = formatShort(compileSeconds);
         if (!primaryVisibility.empty()) meta["primaryVisibility"] = primaryVisibility;
     }

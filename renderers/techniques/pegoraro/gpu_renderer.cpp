@@ -221,6 +221,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     out.deviceName = ctx.device().name;
     out.longestSliceMs = longestMs;
     out.gpuMs = totalMs + primary.gpuMs;
+    out.primaryHitsMs = primary.gpuMs;
     out.compileSeconds = compileSeconds;
     out.primaryVisibility = primary.visibility;
     return out;

@@ -23,6 +23,7 @@ struct GpuOutput {
     std::string deviceName;
     double longestSliceMs = 0.0;
     double gpuMs = 0.0;           // GPU time of all slices
+    double primaryHitsMs = 0.0;   // of gpuMs: the camera hits (raster or traced)
     double compileSeconds = 0.0;  // building the pipeline (0 when it was cached)
     // The camera hits: "raster" or "traced: <why>" (framework/primary_hits.h); empty without surfaces.
     std::string primaryVisibility;

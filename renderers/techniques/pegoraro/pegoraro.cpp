@@ -167,7 +167,7 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
     std::vector<glm::vec4> radiance;
     std::vector<std::uint32_t> overflows;
     std::string deviceName = "cpu";
-    double longestSliceMs = 0.0, gpuMs = 0.0, compileSeconds = 0.0;
+    double longestSliceMs = 0.0, gpuMs = 0.0, compileSeconds = 0.0, primaryHitsMs = 0.0;
     std::string primaryVisibility;
     bool useDouble = settings.precision == Precision::Double;
     const bool onGpu = runsOnGpu(settings.device, AutoDevice::HardwareGpu);
@@ -182,6 +182,7 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
         deviceName = g.deviceName;
         longestSliceMs = g.longestSliceMs;
         gpuMs = g.gpuMs;
+        primaryHitsMs = g.primaryHitsMs;
         compileSeconds = g.compileSeconds;
         primaryVisibility = g.primaryVisibility;
     } else {
@@ -228,6 +229,9 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
     if (onGpu) {
         meta["gpu:longestSliceMs"] = formatShort(longestSliceMs);
         meta["gpu:totalMs"] = formatShort(gpuMs);
+        // Each pass's share (tyndall_gpu_frames_bench reports them): camera hits, then the closed form.
+        meta["gpu:primaryHitsMs"] = formatShort(primaryHitsMs);
+        meta["gpu:closedFormMs"] = formatShort(gpuMs - primaryHitsMs);
         meta["gpu:compileSeconds"] = formatShort(compileSeconds);
         if (!primaryVisibility.empty()) meta["primaryVisibility"] = primaryVisibility;
     }

@@ -37,6 +37,8 @@ void check(VkResult result, const char* what);
 struct DeviceInfo {
     int index = 0;
     std::string name;
+    std::string
+        driver;  // the driver's name and version ("NVIDIA 550.54.15", "llvmpipe Mesa 22.3.6"); Vulkan 1.2 devices
     VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
     std::uint32_t apiVersion = 0;
     std::uint32_t queueFamily = 0;  // a family with compute (and graphics when available)
