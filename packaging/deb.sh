@@ -10,10 +10,7 @@ out=${1:?usage: packaging/deb.sh OUT_DIR [BUILD_DIR]}
 build=${2:-$root/build}
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
-if [ ! -f "$build/CMakeCache.txt" ]; then
-    cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTYNDALL_WARNINGS_AS_ERRORS=ON
-fi
-cmake --build "$build" -j "$(nproc)"
+"$root/packaging/configure-build.sh" "$build"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 (cd "$build" && cpack -G DEB -B "$work" >"$work/cpack.log" 2>&1) || { cat "$work/cpack.log" >&2; exit 1; }

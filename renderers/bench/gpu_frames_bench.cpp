@@ -127,10 +127,25 @@ std::vector<std::pair<int, int>> frameSizes() {
     return sizes;
 }
 
-// Registered at start-up, one benchmark per case and size; each runs for at least 0.1 s of GPU time (one frame at
-// least), so that a slow device (lavapipe) stays within minutes and a fast one averages tens of frames.
+// Timed frames per case: 10, or $TYNDALL_BENCH_FRAMES. A fixed count, not a minimum time: a frame's GPU time can be a
+// small part of its wall time (the CPU's share of Pegoraro's frame is ~200 ms), and Google Benchmark would add frames
+// until the GPU time alone reached the minimum.
+int timedFrames() {
+    const char* text = std::getenv("TYNDALL_BENCH_FRAMES");
+    if (!text || !*text) return 10;
+    char* end = nullptr;
+    const long frames = std::strtol(text, &end, 10);
+    if (*end != '\0' || frames < 1 || frames > 10000) {
+        std::fprintf(stderr, "TYNDALL_BENCH_FRAMES: '%s' is not a whole number of frames in [1, 10000]\n", text);
+        std::exit(2);
+    }
+    return int(frames);
+}
+
+// Registered at start-up, one benchmark per case and size.
 const bool kRegistered = [] {
     const std::vector<std::pair<int, int>> sizes = frameSizes();
+    const int frames = timedFrames();
     for (const FrameCase& c : frameCases()) {
         for (const auto& [width, height] : sizes) {
             const std::string name =
@@ -138,7 +153,7 @@ const bool kRegistered = [] {
             benchmark::RegisterBenchmark(name.c_str(), [&c, width = width, height = height](
                                                            benchmark::State& s) { BM_Frame(s, c, width, height); })
                 ->UseManualTime()
-                ->MinTime(0.1)
+                ->Iterations(frames)
                 ->Unit(benchmark::kMillisecond);
         }
     }
