@@ -41,6 +41,18 @@ TEST(Flip, PixelsPerDegreeOfTheDefaultMonitor) {
     EXPECT_NEAR(flipPixelsPerDegree(1.0, 1920.0, 0.5), 1920.0 * 2.0 * M_PI / 180.0, 1e-9);
 }
 
+TEST(Flip, CubeRootMatchesTheLibrarysToTenDigitsAndMore) {
+    // Over the range the colour pipeline uses (XYZ / white of RGB in [0, 1]: 0.0089 to 1.09) and well beyond it.
+    double worst = 0.0;
+    for (int i = 0; i <= 20000; ++i) {
+        const double t = std::pow(10.0, -12.0 + 14.0 * i / 20000.0);
+        worst = std::max(worst, std::abs(flipCubeRoot(t) - std::cbrt(t)) / std::cbrt(t));
+    }
+    EXPECT_LT(worst, 1e-11);
+    EXPECT_EQ(flipCubeRoot(1.0), 1.0);
+    EXPECT_NEAR(flipCubeRoot(8.0), 2.0, 1e-14);
+}
+
 TEST(Flip, IdenticalImagesGiveZeroEverywhere) {
     const Image a = noisy(40, 30, 1u, 0.4f);
     for (float e : ldrFlip(a, a))

@@ -18,6 +18,9 @@ double flipPixelsPerDegree(double distance = 0.7, double resolution = 3840.0, do
 // row-major. Throws InputError for images of different sizes or without R, G, B.
 std::vector<float> ldrFlip(const Image& reference, const Image& test, double pixelsPerDegree = flipPixelsPerDegree());
 
+// The cube root the colour pipeline takes (CIELAB's f), for t > 0: relative error below 1e-11 (Flip.CubeRoot...).
+double flipCubeRoot(double t);
+
 // The tone mappers of HDR-FLIP, each a rational polynomial (k0 x^2 + k1 x + k2) / (k3 x^2 + k4 x + k5) of the exposed
 // linear value, clamped to [0, 1].
 enum class FlipToneMapper { Aces, Hable, Reinhard };
