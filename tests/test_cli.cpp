@@ -1,4 +1,5 @@
 // The tyndall CLI end to end, as a user runs it: exit codes (0 ok, 1 failure, 2 bad input), messages and outputs.
+#include "tyndall/image/colour_map.h"
 #include "tyndall/image/image_io.h"
 #include "tyndall/image/metrics.h"
 #include "tyndall/image/tonemap.h"
@@ -475,7 +476,8 @@ TEST(Cli, CompareReportsFlipInTheOrderOfRelMse) {
     const std::string ref = " -r '" + (dir / "ref.exr").string() + "'";
     const CliRun run =
         tyndall("compare " + images + ref + " --metric flip --json '" + (dir / "m.json").string() + "' --flip-map '" +
-                (dir / "{name}-flip.exr").string() + "' --flip-histogram '" + (dir / "{name}-flip.csv").string() + "'");
+                (dir / "{name}-flip.exr").string() + "' --flip-map '" + (dir / "{name}-flip.png").string() +
+                "' --flip-histogram '" + (dir / "{name}-flip.csv").string() + "'");
     ASSERT_EQ(run.exitCode, 0) << run.output;
     EXPECT_NE(run.output.find("FLIP mean"), std::string::npos) << run.output;
     const nlohmann::json m = nlohmann::json::parse(std::ifstream(dir / "m.json"));
@@ -492,6 +494,16 @@ TEST(Cli, CompareReportsFlipInTheOrderOfRelMse) {
         for (int x = 0; x < map.width(); ++x) {
             ASSERT_GE(map.at(x, y, 0), 0.0f);
             ASSERT_LE(map.at(x, y, 0), 1.0f);
+        }
+    // The PNG map: each pixel the magma colour of the EXR map's error, to one 8-bit step.
+    const tyndall::Image png = tyndall::readImage((dir / "spp1-flip.png").string());
+    ASSERT_EQ(png.width(), map.width());
+    ASSERT_EQ(png.height(), map.height());
+    for (int y = 0; y < map.height(); ++y)
+        for (int x = 0; x < map.width(); ++x) {
+            const tyndall::Rgb expected = tyndall::magma(map.at(x, y, 0));
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(png.at(x, y, c), tyndall::srgbEncode(float(expected[c])), 0.6 / 255.0) << x << " " << y;
         }
 
     ASSERT_EQ(
@@ -528,6 +540,12 @@ TEST(Cli, CompareReportsFlipInTheOrderOfRelMse) {
     const CliRun unknown = tyndall("compare " + images + ref + " --metric ssim");
     EXPECT_EQ(unknown.exitCode, 2) << unknown.output;
     EXPECT_NE(unknown.output.find("--metric"), std::string::npos) << unknown.output;
+    const CliRun tiff =
+        tyndall("compare " + images + ref + " --metric flip --flip-map '" + (dir / "{name}-flip.tiff").string() + "'");
+    EXPECT_EQ(tiff.exitCode, 2) << tiff.output;
+    EXPECT_NE(tiff.output.find("--flip-map"), std::string::npos) << tiff.output;
+    EXPECT_NE(tiff.output.find("or a .png (the error in magma)"), std::string::npos) << tiff.output;
+    EXPECT_FALSE(fs::exists(dir / "spp1-flip.tiff"));
 }
 
 TEST(Cli, RendersTheWvdsExampleAndWritesItsDistanceProbe) {

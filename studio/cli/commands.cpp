@@ -6,6 +6,7 @@
 #include "tyndall/core/output.h"
 #include "tyndall/core/text.h"
 #include "tyndall/gpu/context.h"
+#include "tyndall/image/colour_map.h"
 #include "tyndall/image/flip.h"
 #include "tyndall/image/image_io.h"
 #include "tyndall/image/merge.h"
@@ -377,14 +378,16 @@ int compare(const CompareArgs& args) {
                                      "PSNR and the energy bias are always computed)");
             flip = true;
         }
-        if (!args.flipMap.empty()) {
+        for (const std::string& map : args.flipMaps) {
             if (!flip) throw InputError(InputLocation{"", 0, 0, "--flip-map"}, "needs --metric flip");
-            if (std::filesystem::path(args.flipMap).extension() != ".exr")
-                throw InputError(InputLocation{"", 0, 0, "--flip-map"}, "must name an .exr file");
-            if (args.images.size() > 1 && args.flipMap.find("{name}") == std::string::npos)
+            const std::string ext = std::filesystem::path(map).extension().string();
+            if (ext != ".exr" && ext != ".png")
+                throw InputError(InputLocation{map, 0, 0, "--flip-map"},
+                                 "must name an .exr (the error and its exposure) or a .png (the error in magma) file");
+            if (args.images.size() > 1 && map.find("{name}") == std::string::npos)
                 throw InputError(InputLocation{"", 0, 0, "--flip-map"},
                                  "with several images the path must contain {name}");
-            checkOutputPath(args.flipMap);
+            checkOutputPath(map);
         }
         if (!args.flipHistogram.empty()) {
             if (!flip) throw InputError(InputLocation{"", 0, 0, "--flip-histogram"}, "needs --metric flip");
@@ -487,10 +490,21 @@ int compare(const CompareArgs& args) {
                                 "," + formatNumber(b.weightedShare) + "\n";
                     files.stage(out, text);
                 }
-                if (!args.flipMap.empty()) {
-                    std::string out = args.flipMap;
+                for (const std::string& mapPath : args.flipMaps) {
+                    std::string out = mapPath;
                     if (auto pos = out.find("{name}"); pos != std::string::npos) out.replace(pos, 6, name);
                     checkOutputPath(out);
+                    if (std::filesystem::path(out).extension() == ".png") {
+                        Image colours = Image::rgb(image.width(), image.height());
+                        for (int y = 0; y < image.height(); ++y)
+                            for (int x = 0; x < image.width(); ++x) {
+                                const Rgb c = magma(r.error[std::size_t(y) * image.width() + x]);
+                                for (int k = 0; k < 3; ++k)
+                                    colours.at(x, y, k) = float(c[k]);
+                            }
+                        files.stage(out, encodeImage(colours, out));
+                        continue;
+                    }
                     Image map(image.width(), image.height(), {"FLIP", "exposure"});
                     for (int y = 0; y < image.height(); ++y)
                         for (int x = 0; x < image.width(); ++x) {

@@ -61,7 +61,9 @@ struct CompareArgs {
     double diffScale = 0.0;          // 0: 10 % of the reference's mean luminance... see compare()
     std::vector<std::string>
         metrics;                      // extra metrics beyond the standard ones: "flip" (HDR-FLIP, tyndall/image/flip.h)
-    std::string flipMap;              // FLIP error map per image (.exr: channels FLIP and exposure); "{name}" as --diff
+    // FLIP error maps per image, each by its extension: .exr (channels FLIP and exposure) or .png (the error through
+    // the magma colour map, as FLIP's papers show it); "{name}" as --diff.
+    std::vector<std::string> flipMaps;
     std::string flipHistogram;        // FLIP's weighted histogram per image (.csv, 100 bins); "{name}" as --diff
     double pixelsPerDegree = 0.0;     // FLIP's observer (0: 67.02, a 0.7 m wide 4K monitor at 0.7 m)
     std::string toneMapper = "aces";  // HDR-FLIP's tone mapper: aces, hable, reinhard

@@ -130,9 +130,10 @@ int main(int argc, char** argv) {
     compareCmd->add_option("--diff-kind", compare.diffKind, "signed, absolute or relative");
     compareCmd->add_option("--metric", compare.metrics,
                            "an extra metric: flip (HDR-FLIP: mean, weighted median and quartiles of its error map)");
-    compareCmd->add_option("--flip-map", compare.flipMap,
-                           "with --metric flip: write each image's FLIP error map as .exr (channels FLIP, exposure; "
-                           "{name} is replaced by each image's name)");
+    compareCmd->add_option("--flip-map", compare.flipMaps,
+                           "with --metric flip: write each image's FLIP error map, as .exr (channels FLIP, exposure) "
+                           "or .png (the error in the magma colour map); repeatable; {name} is replaced by each "
+                           "image's name");
     compareCmd->add_option(
         "--flip-histogram", compare.flipHistogram,
         "with --metric flip: write each image's weighted FLIP histogram as .csv (100 bins: low, high, "

@@ -319,6 +319,12 @@ TEST(ColourMap, ViridisMatchesThePublishedColours) {
     expectSrgb(viridis(0.5), {33.0, 145.0, 140.0}, 1.0);   // #21918c
 }
 
+TEST(ColourMap, MagmaMatchesThePublishedColours) {
+    expectSrgb(magma(0.0), {0.0, 0.0, 4.0}, 0.5);        // #000004
+    expectSrgb(magma(1.0), {252.0, 253.0, 191.0}, 0.5);  // #fcfdbf
+    expectSrgb(magma(0.5), {182.0, 55.0, 121.0}, 0.5);   // between entries 127 and 128 (#b53679, #b73779)
+}
+
 TEST(ColourMap, DivergingRunsBlueWhiteRed) {
     expectSrgb(diverging(0.0), {5.0, 48.0, 97.0});      // #053061
     expectSrgb(diverging(0.5), {247.0, 247.0, 247.0});  // #f7f7f7

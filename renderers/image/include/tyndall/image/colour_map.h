@@ -7,6 +7,7 @@
 namespace tyndall {
 
 Rgb viridis(double t);
+Rgb magma(double t);      // FLIP's error maps: black (0) - purple - orange - pale yellow (1)
 Rgb diverging(double t);  // blue - white - red, white at 0.5
 
 }  // namespace tyndall
