@@ -1,6 +1,8 @@
 #include "compositor.h"
 
+#include "tyndall/core/error.h"
 #include "tyndall/image/colour_map.h"
+#include "tyndall/image/flip.h"
 #include "tyndall/image/image_io.h"
 
 #include <QFontMetrics>
@@ -124,7 +126,27 @@ double cachedDifferenceScale(const std::vector<ViewFrame>& frames) {
     return scale = sharedDifferenceScale(frames);
 }
 
+// HDR-FLIP's error map of `image` against `reference` (the automatic exposure range, 67 pixels per degree), through
+// magma: black where they cannot be told apart, pale yellow at 1.
+QImage flipDisplay(const Image& image, const Image& reference) {
+    HdrFlipResult flip;
+    try {
+        flip = hdrFlip(reference, image);
+    } catch (const InputError&) {
+        return {};  // no R, G, B to compare: the tile says that the difference waits
+    }
+    Image map = Image::rgb(image.width(), image.height());
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) {
+            const Rgb c = magma(flip.error[std::size_t(y) * std::size_t(image.width()) + std::size_t(x)]);
+            for (int k = 0; k < 3; ++k)
+                map.at(x, y, k) = float(c[k]);
+        }
+    return toDisplay(map, 0.0);
+}
+
 QImage differenceDisplay(const Image& image, const Image& reference, DiffMode mode, double scale) {
+    if (mode == DiffMode::Flip) return flipDisplay(image, reference);
     const DifferenceKind kind = mode == DiffMode::Signed     ? DifferenceKind::Signed
                                 : mode == DiffMode::Absolute ? DifferenceKind::Absolute
                                                              : DifferenceKind::Relative;
@@ -302,15 +324,18 @@ void drawColourBar(QPainter& p, QSize size, DiffMode mode, double scale) {
     const QRect bar(size.width() - width - 12, size.height() - height - 20, width, height);
     for (int x = 0; x < width; ++x) {
         const double t = (x + 0.5) / width;
-        const Rgb c = mode == DiffMode::Signed ? diverging(t) : viridis(t);
+        const Rgb c = mode == DiffMode::Signed ? diverging(t) : mode == DiffMode::Flip ? magma(t) : viridis(t);
         p.setPen(QColor(int(srgbEncode(float(c.r)) * 255.0f + 0.5f), int(srgbEncode(float(c.g)) * 255.0f + 0.5f),
                         int(srgbEncode(float(c.b)) * 255.0f + 0.5f)));
         p.drawLine(bar.x() + x, bar.y(), bar.x() + x, bar.bottom());
     }
     p.setPen(QColor(230, 230, 230));
-    const double end = mode == DiffMode::Relative ? 0.1 : scale;
+    const double end = mode == DiffMode::Relative ? 0.1 : mode == DiffMode::Flip ? 1.0 : scale;
     const QString left = mode == DiffMode::Signed ? "-" + number(end) : "0";
-    const QString name = mode == DiffMode::Signed ? "signed" : mode == DiffMode::Absolute ? "absolute" : "relative";
+    const QString name = mode == DiffMode::Signed     ? "signed"
+                         : mode == DiffMode::Absolute ? "absolute"
+                         : mode == DiffMode::Flip     ? "FLIP"
+                                                      : "relative";
     p.drawText(QRect(bar.x(), bar.bottom() + 2, width, 14), Qt::AlignLeft, left);
     p.drawText(QRect(bar.x(), bar.bottom() + 2, width, 14), Qt::AlignHCenter, name);
     p.drawText(QRect(bar.x(), bar.bottom() + 2, width, 14), Qt::AlignRight, number(end));
@@ -453,7 +478,8 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
         return frame;
     }
     const std::vector<QRect> rects = cells(frames, state, size);
-    const double scale = state.diff != DiffMode::Off ? cachedDifferenceScale(frames) : 0.0;
+    const double scale =
+        state.diff != DiffMode::Off && state.diff != DiffMode::Flip ? cachedDifferenceScale(frames) : 0.0;
     auto displayFull = [&](const ViewFrame& f, bool reference) -> QImage {
         const std::shared_ptr<const Image>& img = reference ? comparand(f) : shownImage(f);
         const double exposure = f.exposure + state.exposureOffset;

@@ -21,7 +21,9 @@
 namespace tyndall::studio {
 
 enum class Layout { Grid, Single, Split };
-enum class DiffMode { Off, Signed, Absolute, Relative };
+// Differences against each view's comparand: signed, absolute and relative error on one shared scale, or HDR-FLIP's
+// perceptual error map (flip.h, through magma; computed with the frame in the composer's thread, never the GUI's).
+enum class DiffMode { Off, Signed, Absolute, Relative, Flip };
 
 struct ViewFrame {
     QString name;

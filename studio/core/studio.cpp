@@ -411,7 +411,7 @@ void Studio::cycleTonemap() {
 }
 
 void Studio::cycleDifference() {
-    state_.diff = DiffMode((int(state_.diff) + 1) % 4);
+    state_.diff = DiffMode((int(state_.diff) + 1) % (int(DiffMode::Flip) + 1));
     recompose();
 }
 

@@ -173,7 +173,7 @@ void addStudioActions(ActionTable& table, MainWindow& window) {
     table.separator(view);
     table.add({"difference",
                view,
-               "Cycle &difference (off, signed, absolute, relative)",
+               "Cycle &difference (off, signed, absolute, relative, FLIP)",
                {QKeySequence("D")},
                [&studio] { studio.cycleDifference(); },
                "layoutToolbar"});

@@ -3,6 +3,9 @@
 // bundled default project at a small size. What the window shows is tested in test/gui.
 #include "resolution_schedule.h"
 #include "studio.h"
+#include "tyndall/image/colour_map.h"
+#include "tyndall/image/flip.h"
+#include "tyndall/image/image_io.h"
 
 #include <QDir>
 #include <QGuiApplication>
@@ -288,6 +291,48 @@ private slots:
         QVERIFY2(white > 180 && white < 195, qPrintable(QString::number(white)));
     }
 
+    // The FLIP difference (D's fifth mode): identical images are magma's black, a step against a flat grey shows each
+    // pixel's HDR-FLIP error in magma, and the colour bar runs from magma(0) to magma(1).
+    void composesTheFlipDifference() {
+        std::vector<ViewFrame> frames(2);
+        frames[0].image = flat(40, 30, 0.5f);
+        frames[0].reference = flat(40, 30, 0.5f);
+        auto step = std::make_shared<Image>(Image::rgb(40, 30));
+        for (int y = 0; y < 30; ++y)
+            for (int x = 0; x < 40; ++x)
+                for (int c = 0; c < 3; ++c)
+                    step->at(x, y, c) = x < 20 ? 0.05f : 2.0f;
+        frames[1].image = step;
+        frames[1].reference = flat(40, 30, 0.5f);
+        CompositorState state;
+        state.diff = DiffMode::Flip;
+        const QSize size(400, 300);
+        const QImage frame = compose(frames, state, size);
+        const std::vector<QRect> rects = viewRects(frames, state, size);
+        auto srgb = [](const Rgb& c) {
+            return QColor(int(srgbEncode(float(c.r)) * 255.0f + 0.5f), int(srgbEncode(float(c.g)) * 255.0f + 0.5f),
+                          int(srgbEncode(float(c.b)) * 255.0f + 0.5f));
+        };
+        auto near = [](QColor a, QColor b) {
+            return std::abs(a.red() - b.red()) <= 2 && std::abs(a.green() - b.green()) <= 2 &&
+                   std::abs(a.blue() - b.blue()) <= 2;
+        };
+        const QColor same(frame.pixel(rects[0].center()));
+        QVERIFY2(near(same, srgb(magma(0.0))), qPrintable(same.name()));
+        const HdrFlipResult flip = hdrFlip(*frames[1].reference, *step);
+        for (int x : {5, 34}) {  // well inside each half of the step, in the middle row
+            const QPoint p(rects[1].left() + int((x + 0.5) * rects[1].width() / 40.0), rects[1].center().y());
+            const QColor shown(frame.pixel(p));
+            const QColor expected = srgb(magma(flip.error[std::size_t(15 * 40 + x)]));
+            QVERIFY2(near(shown, expected), qPrintable(shown.name() + " against " + expected.name()));
+            QVERIFY(flip.error[std::size_t(15 * 40 + x)] > 0.1f);
+        }
+        // The colour bar's ends (its bar sits 30 px above the frame's bottom, at the right).
+        const int barWidth = std::min(256, size.width() / 3), barY = size.height() - 10 - 20 + 5;
+        QVERIFY(near(QColor(frame.pixel(size.width() - barWidth - 12, barY)), srgb(magma(0.5 / barWidth))));
+        QVERIFY(near(QColor(frame.pixel(size.width() - 13, barY)), srgb(magma(1.0 - 0.5 / barWidth))));
+    }
+
     // --- Session: an edit is undoable; a broken project is refused and the current one stays.
     void sessionEditsAndRefusals() {
         Session session;
@@ -349,6 +394,11 @@ private slots:
         QCOMPARE(studio.compositorState().layout, Layout::Single);
         studio.cycleDifference();
         QCOMPARE(studio.compositorState().diff, DiffMode::Signed);
+        for (DiffMode next :
+             {DiffMode::Absolute, DiffMode::Relative, DiffMode::Flip, DiffMode::Off, DiffMode::Signed}) {
+            studio.cycleDifference();
+            QCOMPARE(studio.compositorState().diff, next);
+        }
         studio.zoomBy(100.0);
         QCOMPARE(studio.compositorState().zoom, 64.0);
         studio.resetZoom();
