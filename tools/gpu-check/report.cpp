@@ -82,12 +82,22 @@ json runJson(const ProcessRun& run) {
             {"timedOut", run.timedOut}, {"seconds", run.seconds},   {"log", run.log}};
 }
 
-// The first Vulkan device of `tyndall info --json` (the one a technique takes), or null.
-json firstGpu(const json& info) {
+// The Vulkan device of `tyndall info --json` that the techniques and tests take (gpu::Context::pickDevice): the first
+// of the highest type, discrete > integrated > virtual > CPU; null without one.
+json chosenGpu(const json& info) {
     if (!info.is_object() || !info.contains("devices")) return nullptr;
+    const auto rank = [](const json& d) {
+        const std::string type = d.value("type", "");
+        return type == "discrete GPU"     ? 4
+               : type == "integrated GPU" ? 3
+               : type == "virtual GPU"    ? 2
+               : type == "CPU"            ? 1
+                                          : 0;
+    };
+    json chosen = nullptr;
     for (const json& d : info["devices"])
-        if (d.contains("vulkan")) return d;
-    return nullptr;
+        if (d.contains("vulkan") && (chosen.is_null() || rank(d) > rank(chosen))) chosen = d;
+    return chosen;
 }
 
 json testsJson(const std::vector<TestRun>& tests, const json& device, std::vector<std::string>& problems) {
@@ -235,7 +245,7 @@ json buildReport(const json& info, const ProcessRun& infoRun, const std::vector<
         for (const json& d : info["devices"])
             if (d.contains("vulkan")) devices.push_back(d);
     report["devices"] = devices;
-    const json device = firstGpu(info);
+    const json device = chosenGpu(info);
     report["device"] = device;
     std::vector<std::string> problems;
     if (device.is_null()) {
@@ -282,7 +292,12 @@ std::string markdownReport(const json& r) {
     for (const char* f : {"float64", "rayQuery", "meshShader", "geometryShader", "timestamps"})
         md << " " << f << " " << (d.value(f, false) ? "yes" : "no") << (std::string(f) == "timestamps" ? "" : ",");
     md << "\n";
-    if (r["devices"].size() > 1) md << "- **Other devices**: " << r["devices"].size() - 1 << " (the first is used)\n";
+    if (r["devices"].size() > 1) {
+        md << "- **Other devices** (not used: the techniques take discrete > integrated > virtual > CPU):";
+        for (const json& other : r["devices"])
+            if (other != d) md << " " << other.value("name", "?") << " (" << other.value("type", "?") << ");";
+        md << "\n";
+    }
     md << "- **Took**: " << fixed(r.value("seconds", 0.0), 0) << " s\n\n";
     md << "**Verdict: " << verdict << ".**";
     if (!r["problems"].empty()) {

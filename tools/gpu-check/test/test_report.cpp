@@ -85,6 +85,21 @@ TEST(GpuCheckReport, SkipReasonsComeFromTheLog) {
     EXPECT_EQ(reasons.size(), 1u);
 }
 
+TEST(GpuCheckReport, TheDeviceIsTheOneTheTechniquesTake) {
+    // lavapipe listed before the GPU (as on a machine with Mesa installed beside NVIDIA's driver): the GPU is judged.
+    json info = infoWith(true);
+    const json lavapipe = {
+        {"name", "llvmpipe (LLVM 15.0.6, 256 bits)"}, {"vulkan", "1.3"}, {"type", "CPU"}, {"meshShader", false}};
+    info["devices"].insert(info["devices"].begin() + 1, lavapipe);
+    const json report = buildReport(info, exited(0), {}, nullptr, ProcessRun{}, {});
+    EXPECT_EQ(report["device"]["name"], "NVIDIA H100");
+    EXPECT_EQ(report["devices"].size(), 2u);
+    EXPECT_NE(markdownReport(report).find("not used: the techniques take discrete > integrated > virtual > CPU): "
+                                          "llvmpipe (LLVM 15.0.6, 256 bits) (CPU);"),
+              std::string::npos)
+        << markdownReport(report);
+}
+
 TEST(GpuCheckReport, NoDeviceSaysSoAndRunsNothing) {
     json info = infoWith(false);
     info["devices"].erase(1);
