@@ -61,6 +61,8 @@ set -e
 [ "$(wc -l <"$work/info.err")" = 1 ] || { cat "$work/info.err"; fail "tyndall info without a driver: not one line"; }
 grep -q "no Vulkan device" "$work/info.err" || fail "tyndall info without a driver: $(cat "$work/info.err")"
 grep -q "^  ltsd - LTSD" "$work/info.out" || fail "tyndall info without a driver listed no techniques"
+grep -q "^Colour (OpenColorIO, PNG output): the shipped config .*/share/tyndall/colour/tyndall.ocio$" \
+    "$work/info.out" || fail "tyndall info does not take the bundle's OpenColorIO config: $(grep Colour "$work/info.out")"
 echo "test-bundle: without a driver: $(cat "$work/info.err")"
 in_jail "$bundle/bin/tyndall" render "$bundle/share/tyndall/projects/default.json" --reference --spp 2 \
     --size 32x24 -o /tmp/reference.exr >/dev/null

@@ -27,7 +27,8 @@ lintian --fail-on error "$deb" || { echo "test-deb: FAILED: lintian reports erro
 DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -q "$deb" >/dev/null
 installed=1
 for f in /usr/bin/tyndall /usr/bin/tyndall-studio /usr/bin/tyndall-plot /usr/share/tyndall/projects/default.json \
-         /usr/share/tyndall/shaders /usr/share/tyndall/tables/hg.ltsd /usr/share/applications/tyndall-studio.desktop \
+         /usr/share/tyndall/shaders /usr/share/tyndall/tables/hg.ltsd /usr/share/tyndall/colour/tyndall.ocio \
+         /usr/share/applications/tyndall-studio.desktop \
          /usr/share/icons/hicolor/scalable/apps/tyndall.svg /usr/share/man/man1/tyndall.1.gz \
          /usr/share/doc/tyndall/copyright /usr/share/doc/tyndall/architecture.md; do
     [ -e "$f" ] || { echo "test-deb: FAILED: the package did not install $f"; exit 1; }
@@ -37,6 +38,12 @@ cd "$work"
 env -u TYNDALL_ROOT /usr/bin/tyndall render /usr/share/tyndall/projects/default.json --reference --spp 4 --size 64x48 \
     -o x.exr
 [ -s x.exr ] || { echo "test-deb: FAILED: the installed tyndall wrote no image"; exit 1; }
+# PNGs through the installed OpenColorIO config's ACES view, said in the PNG's text.
+env -u TYNDALL_ROOT -u OCIO /usr/bin/tyndall render /usr/share/tyndall/projects/default.json --reference --spp 4 \
+    --size 64x48 --display sRGB --ocio-view "ACES 1.0 - SDR Video" -o x.png 2>ocio.err
+[ ! -s ocio.err ] || { cat ocio.err; echo "test-deb: FAILED: the installed config was passed over"; exit 1; }
+grep -aq "/usr/share/tyndall/colour/tyndall.ocio" x.png ||
+    { echo "test-deb: FAILED: the PNG does not name the installed OpenColorIO config"; exit 1; }
 env -u TYNDALL_ROOT QT_QPA_PLATFORM=xcb TYNDALL_VULKAN_VALIDATION=0 \
     xvfb-run -a -s "-screen 0 1280x800x24" /usr/bin/tyndall-studio --screenshot studio.png
 [ -s studio.png ] || { echo "test-deb: FAILED: the installed studio wrote no screenshot"; exit 1; }

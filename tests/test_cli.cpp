@@ -1,4 +1,5 @@
 // The tyndall CLI end to end, as a user runs it: exit codes (0 ok, 1 failure, 2 bad input), messages and outputs.
+#include "tyndall/image/colour_management.h"
 #include "tyndall/image/colour_map.h"
 #include "tyndall/image/image_io.h"
 #include "tyndall/image/metrics.h"
@@ -29,14 +30,24 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The CLI's PNGs go through the shipped OpenColorIO config's default display and view, whatever the user's $OCIO
+// (the tests that want another set it for their command).
+const bool kOcioUnset = (unsetenv("OCIO"), true);
+
 struct CliRun {
     int exitCode = -1;
     std::string output;  // stdout and stderr
 };
 
+// Which of the CLI's output streams a run keeps: both (interleaved), or one with the other discarded.
+enum class Streams { Both, Stdout, Stderr };
+
 // `env`: assignments before the command, e.g. "TYNDALL_ROOT='/x' ".
-CliRun tyndall(const std::string& args, const std::string& env = "") {
-    std::string command = env + std::string(TYNDALL_CLI) + " " + args + " 2>&1";
+CliRun tyndall(const std::string& args, const std::string& env = "", Streams streams = Streams::Both) {
+    const char* redirect = streams == Streams::Both     ? " 2>&1"
+                           : streams == Streams::Stdout ? " 2>/dev/null"
+                                                        : " 2>&1 >/dev/null";
+    std::string command = env + std::string(TYNDALL_CLI) + " " + args + redirect;
     CliRun run;
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return run;
@@ -86,20 +97,7 @@ TEST(Cli, InfoListsTheReferenceAndItsParameters) {
 // The device's driver and features are listed; without any Vulkan driver (the loader pointed at none) everything else
 // is still printed, one line on stderr says why, and the exit status is 1 (issue 37: scripts check `tyndall info`).
 TEST(Cli, InfoNamesTheDriverAndExitsOneWithoutAVulkanDevice) {
-    // One stream of the CLI: "1" (stdout) or "2" (stderr), the other discarded.
-    const auto stream = [](const std::string& args, const std::string& which, const std::string& env = "") {
-        const std::string command =
-            env + std::string(TYNDALL_CLI) + " " + args + (which == "1" ? " 2>/dev/null" : " 2>&1 >/dev/null");
-        CliRun run;
-        FILE* pipe = popen(command.c_str(), "r");
-        std::array<char, 4096> buffer{};
-        while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe))
-            run.output.append(buffer.data(), n);
-        const int status = pclose(pipe);
-        run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        return run;
-    };
-    const CliRun j = stream("info --json", "1");
+    const CliRun j = tyndall("info --json", "", Streams::Stdout);
     ASSERT_EQ(j.exitCode, 0) << j.output;
     const nlohmann::json info = nlohmann::json::parse(j.output);
     ASSERT_GE(info["devices"].size(), 2u) << j.output;
@@ -108,15 +106,15 @@ TEST(Cli, InfoNamesTheDriverAndExitsOneWithoutAVulkanDevice) {
         EXPECT_TRUE(info["devices"][1].contains(feature)) << feature;
 
     const std::string noDriver = "VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES= ";
-    const CliRun why = stream("info", "2", noDriver);
+    const CliRun why = tyndall("info", noDriver, Streams::Stderr);
     EXPECT_EQ(why.exitCode, 1) << why.output;
     EXPECT_EQ(std::count(why.output.begin(), why.output.end(), '\n'), 1) << why.output;
     EXPECT_NE(why.output.find("tyndall: no Vulkan device ("), std::string::npos) << why.output;
     EXPECT_NE(why.output.find("views with device = auto render on the CPU"), std::string::npos) << why.output;
-    const CliRun listed = stream("info", "1", noDriver);
+    const CliRun listed = tyndall("info", noDriver, Streams::Stdout);
     EXPECT_EQ(listed.exitCode, 1);
     EXPECT_NE(listed.output.find("  ltsd - LTSD"), std::string::npos) << listed.output;
-    const CliRun json = stream("info --json", "1", noDriver);
+    const CliRun json = tyndall("info --json", noDriver, Streams::Stdout);
     EXPECT_EQ(json.exitCode, 1);
     EXPECT_TRUE(nlohmann::json::parse(json.output).contains("vulkanError")) << json.output;
 }
@@ -203,6 +201,73 @@ TEST(Cli, PngsGoThroughTheChosenTonemapOperator) {
     }
     for (std::size_t i = 0; i < means.size(); ++i)
         for (std::size_t j = i + 1; j < means.size(); ++j) EXPECT_NE(means[i], means[j]) << i << " vs " << j;
+}
+
+// Without --tonemap, PNGs go through an OpenColorIO display and view (issue 35): the config's default (the shipped
+// config's sRGB / Standard) or --display and --ocio-view, each pixel the transform of the EXR's, and the PNG says which
+// (its text chunks). A broken $OCIO is passed over with a message naming it; an unknown display or view exits 2
+// naming the option and what the config has; `tyndall info` lists the displays and views of the config in use.
+TEST(Cli, PngsGoThroughTheOpenColorIoDisplayAndView) {
+    fs::path dir = scratch("ocio");
+    const std::string exr = (dir / "v.exr").string();
+    const std::string common =
+        "render '" + source("projects/default.json") + "' --view glow --size 16x12 --spp 2 --seed 3 ";
+    ASSERT_EQ(tyndall(common + "-o '" + exr + "'").exitCode, 0);
+    const tyndall::Image linear = tyndall::readImage(exr);
+    const auto config = tyndall::ColourConfig::load();
+    ASSERT_EQ(config->origin(), "shipped");
+    for (const auto& [options, display, view] : std::vector<std::tuple<std::string, std::string, std::string>>{
+             {"", "sRGB", "Standard"},
+             {"--display Rec.1886 ", "Rec.1886", "Standard"},
+             {"--display sRGB --ocio-view 'ACES 1.0 - SDR Video' ", "sRGB", "ACES 1.0 - SDR Video"}}) {
+        const std::string png = (dir / (display + "-" + view.substr(0, 4) + ".png")).string();
+        const CliRun r = tyndall(common + "--exposure 1 " + options + "-o '" + png + "'");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        const tyndall::Image shown = tyndall::readImage(png);
+        EXPECT_EQ(shown.metadata.at("display"), display);
+        EXPECT_EQ(shown.metadata.at("view"), view);
+        EXPECT_EQ(shown.metadata.at("ocioConfig"), tyndall::ColourConfig::shippedConfigPath().string());
+        const tyndall::DisplayTransform transform(config, display, view);
+        for (int y = 0; y < linear.height(); ++y)
+            for (int x = 0; x < linear.width(); ++x) {
+                const auto d = transform.apply(linear.at(x, y, 0), linear.at(x, y, 1), linear.at(x, y, 2), 1.0);
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(shown.at(x, y, c), std::round(d[std::size_t(c)] * 255.0f) / 255.0f, 0.5 / 255.0)
+                        << display << " / " << view << " at " << x << ", " << y;
+            }
+    }
+    const std::string data = source("tests/data/ocio/");
+    const CliRun broken =
+        tyndall(common + "-o '" + (dir / "fallback.png").string() + "'", "OCIO='" + data + "broken.ocio' ");
+    EXPECT_EQ(broken.exitCode, 0) << broken.output;
+    EXPECT_NE(broken.output.find("passed over $OCIO"), std::string::npos) << broken.output;
+    EXPECT_NE(broken.output.find("broken.ocio"), std::string::npos) << broken.output;
+    EXPECT_EQ(tyndall::readImage((dir / "fallback.png").string()).metadata.at("view"), "Standard");
+    const CliRun cinema =
+        tyndall(common + "-o '" + (dir / "film.png").string() + "'", "OCIO='" + data + "cinema.ocio' ");
+    EXPECT_EQ(cinema.exitCode, 0) << cinema.output;
+    EXPECT_EQ(tyndall::readImage((dir / "film.png").string()).metadata.at("display"), "Cinema");
+
+    const CliRun display = tyndall(common + "--display P3 -o '" + (dir / "p3.png").string() + "'");
+    EXPECT_EQ(display.exitCode, 2);
+    EXPECT_NE(display.output.find("--display"), std::string::npos) << display.output;
+    EXPECT_NE(display.output.find("\"sRGB\", \"Rec.1886\""), std::string::npos) << display.output;
+    const CliRun view = tyndall(common + "--ocio-view Filmic -o '" + (dir / "filmic.png").string() + "'");
+    EXPECT_EQ(view.exitCode, 2);
+    EXPECT_NE(view.output.find("--ocio-view"), std::string::npos) << view.output;
+    EXPECT_FALSE(fs::exists(dir / "p3.png") || fs::exists(dir / "filmic.png"));
+    const CliRun both = tyndall(common + "--tonemap aces --display sRGB -o '" + (dir / "both.png").string() + "'");
+    EXPECT_EQ(both.exitCode, 2);
+    EXPECT_NE(both.output.find("one or the other"), std::string::npos) << both.output;
+
+    const CliRun info = tyndall("info", "", Streams::Stdout);
+    EXPECT_NE(info.output.find("Colour (OpenColorIO, PNG output): the shipped config"), std::string::npos);
+    EXPECT_NE(info.output.find("  display sRGB (default): Standard, ACES 1.0 - SDR Video, Raw"), std::string::npos)
+        << info.output;
+    const CliRun json = tyndall("info --json --ocio '" + data + "cinema.ocio'", "", Streams::Stdout);
+    const nlohmann::json colour = nlohmann::json::parse(json.output)["colour"];
+    EXPECT_EQ(colour["origin"], "--ocio");
+    EXPECT_EQ(colour["displays"]["Cinema"], nlohmann::json({"Film", "Raw"}));
 }
 
 TEST(Cli, RendersAViewsPartOnlyAndTheSetOverridesAField) {

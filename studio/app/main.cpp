@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
     QString project;
     std::vector<std::string> overrides;
     QString screenshot;
+    QString ocio;  // the OpenColorIO config (else $OCIO, else the shipped one)
     QStringList images;
     const QStringList args = QApplication::arguments();
     for (int i = 1; i < args.size(); ++i) {
@@ -48,10 +49,12 @@ int main(int argc, char** argv) {
             screenshot = args[++i];
         else if (args[i] == "--project" && i + 1 < args.size())
             project = args[++i];
+        else if (args[i] == "--ocio" && i + 1 < args.size())
+            ocio = args[++i];
         else if (args[i] == "--help") {
             std::printf(
                 "usage: tyndall-studio [project.json] [image.exr|.hdr|.png ...] [--project project.json] "
-                "[--set path=value ...] [--screenshot file.png]\n"
+                "[--set path=value ...] [--ocio config.ocio] [--screenshot file.png]\n"
                 "Images without a project: an image-only session, the first image the reference.\n");
             return 0;
         } else if (tyndall::studio::isImageFile(args[i]))
@@ -89,7 +92,7 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
-    tyndall::studio::MainWindow window(&vulkan, overrides);
+    tyndall::studio::MainWindow window(&vulkan, overrides, ocio);
     if (!interactive && !imagesOnly) {
         // Recovering unsaved changes is a person's decision: report the autosave and leave it for them.
         const QFileInfo autosave(tyndall::studio::Studio::autosavePath(project)), file(project);

@@ -6,7 +6,7 @@
 #include "tyndall/core/output.h"
 #include "tyndall/core/text.h"
 #include "tyndall/gpu/context.h"
-#include "tyndall/image/colour_map.h"
+#include "tyndall/image/colour_management.h"
 #include "tyndall/image/flip.h"
 #include "tyndall/image/image_io.h"
 #include "tyndall/image/merge.h"
@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <csignal>
@@ -188,6 +189,20 @@ void applyShard(RenderJob& job, const std::string& text, bool timeBound) {
     job.request.seed = shardSeed(job.request.seed, index);
 }
 
+DisplayTransform pngDisplayTransform(const RenderArgs& args, const std::vector<std::string>& outs) {
+    const bool png = std::any_of(outs.begin(), outs.end(), [](const std::string& out) {
+        return std::filesystem::path(out).extension() == ".png";
+    });
+    std::shared_ptr<const ColourConfig> config;
+    if (args.tonemap.empty() && (png || !args.ocio.empty() || !args.display.empty() || !args.ocioView.empty())) {
+        config = ColourConfig::load(args.ocio, "--ocio");
+        for (const std::string& warning : config->warnings())
+            std::fprintf(stderr, "tyndall: %s\n", warning.c_str());
+    }
+    if (!config && args.tonemap.empty()) return {};  // no PNG: nothing is shown
+    return displayTransformFromOptions(config, args.tonemap, args.display, args.ocioView);
+}
+
 }  // namespace
 
 int merge(const MergeArgs& args) {
@@ -217,8 +232,8 @@ int render(const RenderArgs& args) {
         if (args.time && !(*args.time > 0.0))
             throw InputError(InputLocation{"", 0, 0, "--time"}, "must be a positive number of seconds");
         if (!args.reference && args.view.empty())
-            throw InputError(InputLocation{"", 0, 0, "--view"}, "name a view with --view, or render the reference with --reference");
-        const Tonemap tonemap = tonemapFromName(args.tonemap, "--tonemap");
+            throw InputError(InputLocation{"", 0, 0, "--view"},
+                             "name a view with --view, or render the reference with --reference");
         std::vector<std::string> outs = args.outs;
         if (outs.empty()) {
             std::string stem = std::filesystem::path(args.project).stem().string();
@@ -226,6 +241,9 @@ int render(const RenderArgs& args) {
                            (args.reference && !args.view.empty() ? "-" + args.view : std::string()) + ".exr");
         }
         for (const std::string& out : outs) checkOutputPath(out);
+        // The PNGs' display transform, decided (and its options checked) before anything renders: Tyndall's operator
+        // with --tonemap, else a display and view of the OpenColorIO config (colour_management.h).
+        const DisplayTransform display = pngDisplayTransform(args, outs);
 
         Project project = loadProject(techniqueCatalogue(), args.project, sets);
         JobOptions options;
@@ -254,7 +272,8 @@ int render(const RenderArgs& args) {
             std::fprintf(stderr, "tyndall: warning: %s\n", warning.c_str());
         const double exposure = args.exposure.value_or(job.exposure);
         OutputSet files;  // every output, or none
-        for (const std::string& out : outs) files.stage(out, encodeImage(result.image, out, exposure, tonemap));
+        for (const std::string& out : outs)
+            files.stage(out, encodeImage(result.image, out, exposure, display));
         files.commit();
         for (const std::string& out : outs) {
             std::printf("wrote %s (%d x %d, %d spp, %.2f s)\n", out.c_str(), result.image.width(),
@@ -495,14 +514,7 @@ int compare(const CompareArgs& args) {
                     if (auto pos = out.find("{name}"); pos != std::string::npos) out.replace(pos, 6, name);
                     checkOutputPath(out);
                     if (std::filesystem::path(out).extension() == ".png") {
-                        Image colours = Image::rgb(image.width(), image.height());
-                        for (int y = 0; y < image.height(); ++y)
-                            for (int x = 0; x < image.width(); ++x) {
-                                const Rgb c = magma(r.error[std::size_t(y) * image.width() + x]);
-                                for (int k = 0; k < 3; ++k)
-                                    colours.at(x, y, k) = float(c[k]);
-                            }
-                        files.stage(out, encodeImage(colours, out));
+                        files.stage(out, encodeImage(flipColourMap(r.error, image.width(), image.height()), out));
                         continue;
                     }
                     Image map(image.width(), image.height(), {"FLIP", "exposure"});
@@ -571,6 +583,18 @@ int info(const InfoArgs& args) {
         }
         if (vulkanProblem.empty() && j["devices"].size() == 1) vulkanProblem = "the Vulkan loader found no device";
         if (!vulkanProblem.empty()) j["vulkanError"] = vulkanProblem;
+        // The OpenColorIO config PNGs go through (render --display, --ocio-view), with its displays and views.
+        const std::shared_ptr<const ColourConfig> colour = ColourConfig::load(args.ocio, "--ocio");
+        for (const std::string& warning : colour->warnings())
+            std::fprintf(stderr, "tyndall: %s\n", warning.c_str());
+        nlohmann::json displays = nlohmann::json::object();
+        for (const std::string& display : colour->displays())
+            displays[display] = colour->views(display);
+        j["colour"] = {{"config", colour->file().empty() ? "raw" : colour->file()},
+                       {"origin", colour->origin()},
+                       {"defaultDisplay", colour->defaultDisplay()},
+                       {"defaultView", colour->defaultView(colour->defaultDisplay())},
+                       {"displays", displays}};
         j["techniques"] = nlohmann::json::array();
         for (const std::string& name : techniqueNames()) {
             auto technique = createTechnique(name);
@@ -612,6 +636,14 @@ int info(const InfoArgs& args) {
                         d["meshShader"].get<bool>() ? ", mesh shaders" : "");
         }
         if (!vulkanProblem.empty()) std::printf("  Vulkan: %s\n", vulkanProblem.c_str());
+        std::printf("\nColour (OpenColorIO, PNG output): %s\n", colour->describe().c_str());
+        for (const std::string& display : colour->displays()) {
+            std::string views;
+            for (const std::string& view : colour->views(display))
+                views += (views.empty() ? "" : ", ") + view;
+            std::printf("  display %s%s: %s\n", display.c_str(),
+                        display == colour->defaultDisplay() ? " (default)" : "", views.c_str());
+        }
         std::printf("\nTechniques:\n");
         for (const auto& t : j["techniques"]) {
             std::printf("  %s - %s\n", t["name"].get<std::string>().c_str(), t["displayName"].get<std::string>().c_str());

@@ -26,7 +26,11 @@ struct RenderArgs {
     int threads = 0;
     std::vector<std::string> outs;  // .exr and/or .png
     std::optional<double> exposure; // PNG exposure; default: the view's
-    std::string tonemap = "srgb";   // PNG display transform (tonemap.h)
+    // The PNGs' display transform (colour_management.h): Tyndall's operator (tonemap.h) when `tonemap` is given, else
+    // `display` and `ocioView` of the OpenColorIO config (`ocio`, else $OCIO, else the shipped one; empty names: the
+    // config's defaults).
+    std::string tonemap;
+    std::string ocio, display, ocioView;
     std::string shard;              // "I/N": the I-th of N equal shares of the samples, with its own seed
 };
 int render(const RenderArgs& args);
@@ -85,6 +89,7 @@ int probe(const ProbeArgs& args);
 
 struct InfoArgs {
     bool json = false;
+    std::string ocio;  // the OpenColorIO config to list (default: $OCIO, else the shipped one)
 };
 int info(const InfoArgs& args);
 

@@ -59,9 +59,18 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--out,-o", render.outs, "output image(s): .exr (float + metadata) or .png (tonemapped)");
     renderCmd->add_option("--exposure", render.exposure, "exposure in stops for PNG output (default: the view's)")
         ->check(kFinite);
+    renderCmd->add_option("--display", render.display,
+                          "OpenColorIO display of PNG output, after the exposure (default: the config's default "
+                          "display; tyndall info lists them)");
+    renderCmd->add_option("--ocio-view", render.ocioView,
+                          "OpenColorIO view of that display (default: the display's default view; --view names the "
+                          "project's view)");
+    renderCmd->add_option("--ocio", render.ocio,
+                          "OpenColorIO config file (default: $OCIO, else the shipped config, else OpenColorIO's raw "
+                          "config)");
     renderCmd->add_option("--tonemap", render.tonemap,
-                          "display transform of PNG output, after the exposure: srgb (clamped, the default), reinhard, "
-                          "aces, falsecolour (log2 luminance in viridis, -10 to +2 EV)");
+                          "Tyndall's own display transform of PNG output instead of OpenColorIO's: srgb (clamped), "
+                          "reinhard, aces (Narkowicz's fit), falsecolour (log2 luminance in viridis, -10 to +2 EV)");
 
     renderCmd->add_option(
         "--shard", render.shard,
@@ -161,8 +170,12 @@ int main(int argc, char** argv) {
     probeCmd->add_option("--json", probe.json, "write the result as JSON");
 
     InfoArgs info;
-    CLI::App* infoCmd = app.add_subcommand("info", "devices, version, techniques and their parameters");
+    CLI::App* infoCmd =
+        app.add_subcommand("info", "devices, version, OpenColorIO displays and views, techniques and their parameters");
     infoCmd->add_flag("--json", info.json, "print as JSON");
+    infoCmd->add_option("--ocio", info.ocio,
+                        "OpenColorIO config whose displays and views to list (default: $OCIO, else "
+                        "the shipped config)");
 
     TablesArgs tablesArgs;
     CLI::App* tablesCmd = app.add_subcommand(

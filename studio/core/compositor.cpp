@@ -10,6 +10,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <functional>
+#include <string>
 
 namespace tyndall::studio {
 
@@ -46,7 +49,7 @@ std::vector<QRect> cells(const std::vector<ViewFrame>& frames, const CompositorS
     std::vector<QRect> out(frames.size());
     if (frames.empty()) return out;
     const QSize imageSize = imageSizeOf(frames);
-    if (state.diff != DiffMode::Off || state.tonemap == Tonemap::FalseColour)
+    if (state.diff != DiffMode::Off || state.displayTransform.falseColour())
         size.setHeight(std::max(1, size.height() - kColourBarStrip));
     if (state.layout != Layout::Grid) {
         const int current = std::clamp(state.current, 0, int(frames.size()) - 1);
@@ -84,13 +87,13 @@ struct DisplayEntry {
     const Image* imageKey = nullptr;
     const Image* againstKey = nullptr;
     double exposure = 0.0, scale = 0.0;
-    int mode = 0;
+    std::size_t mode = 0;  // the difference mode, or 16 + a hash of the display transform
     QImage display;
 };
 
 template <typename Make>
 QImage cachedDisplay(const std::shared_ptr<const Image>& image, const std::shared_ptr<const Image>& against,
-                     double exposure, int mode, double scale, Make&& make) {
+                     double exposure, std::size_t mode, double scale, Make&& make) {
     thread_local std::vector<DisplayEntry> cache;  // per composing thread
     for (auto it = cache.begin(); it != cache.end();) {
         if (it->image.expired() || (it->againstKey && it->against.expired())) {
@@ -135,14 +138,7 @@ QImage flipDisplay(const Image& image, const Image& reference) {
     } catch (const InputError&) {
         return {};  // no R, G, B to compare: the tile says that the difference waits
     }
-    Image map = Image::rgb(image.width(), image.height());
-    for (int y = 0; y < image.height(); ++y)
-        for (int x = 0; x < image.width(); ++x) {
-            const Rgb c = magma(flip.error[std::size_t(y) * std::size_t(image.width()) + std::size_t(x)]);
-            for (int k = 0; k < 3; ++k)
-                map.at(x, y, k) = float(c[k]);
-        }
-    return toDisplay(map, 0.0);
+    return toDisplay(flipColourMap(flip.error, image.width(), image.height()), 0.0);
 }
 
 QImage differenceDisplay(const Image& image, const Image& reference, DiffMode mode, double scale) {
@@ -409,15 +405,24 @@ QString referenceProgress(const ViewFrame& frame) {
     return "reference " + text;
 }
 
-QImage toDisplay(const Image& image, double exposure, Tonemap op) {
+QImage toDisplay(const Image& image, double exposure, const DisplayTransform& transform) {
     QImage out(image.width(), image.height(), QImage::Format_RGBA8888);
-    if (op != Tonemap::Srgb) {
+    if (transform.isOcio() || transform.tonemap() != Tonemap::Srgb) {
+        // A row at a time through the transform (OpenColorIO's processor, or Tyndall's operator).
+        std::vector<float> rgb(std::size_t(image.width()) * 3);
+        const int r = std::max(image.channelIndex("R"), 0), g = std::max(image.channelIndex("G"), 0),
+                  b = std::max(image.channelIndex("B"), 0);
         for (int y = 0; y < image.height(); ++y) {
+            for (int x = 0; x < image.width(); ++x) {
+                rgb[3 * std::size_t(x)] = image.at(x, y, r);
+                rgb[3 * std::size_t(x) + 1] = image.at(x, y, g);
+                rgb[3 * std::size_t(x) + 2] = image.at(x, y, b);
+            }
+            transform.apply(rgb.data(), std::size_t(image.width()), exposure);
             uchar* row = out.scanLine(y);
             for (int x = 0; x < image.width(); ++x) {
-                const std::array<float, 3> d = tonemapRgb(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2),
-                                                          exposure, op);
-                for (int c = 0; c < 3; ++c) row[4 * x + c] = uchar(std::lround(d[std::size_t(c)] * 255.0f));
+                for (int c = 0; c < 3; ++c)
+                    row[4 * x + c] = uchar(std::lround(rgb[3 * std::size_t(x) + std::size_t(c)] * 255.0f));
                 row[4 * x + 3] = 255;
             }
         }
@@ -480,6 +485,10 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
     const std::vector<QRect> rects = cells(frames, state, size);
     const double scale =
         state.diff != DiffMode::Off && state.diff != DiffMode::Flip ? cachedDifferenceScale(frames) : 0.0;
+    // The display transform in the cache's key: its name, and the config it comes from.
+    const std::string transformKey =
+        state.displayTransform.name() + "|" +
+        std::to_string(reinterpret_cast<std::uintptr_t>(state.displayTransform.config().get()));
     auto displayFull = [&](const ViewFrame& f, bool reference) -> QImage {
         const std::shared_ptr<const Image>& img = reference ? comparand(f) : shownImage(f);
         const double exposure = f.exposure + state.exposureOffset;
@@ -488,12 +497,12 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             const ComparisonPair pair = comparisonPair(f);
             const std::shared_ptr<const Image>&a = pair.image, &b = pair.against;
             if (!a || !b || a->width() != b->width() || a->height() != b->height()) return {};
-            return cachedDisplay(a, b, 0.0, int(state.diff), scale,
+            return cachedDisplay(a, b, 0.0, std::size_t(state.diff), scale,
                                  [&] { return differenceDisplay(*a, *b, state.diff, scale); });
         }
         if (!img) return {};
-        return cachedDisplay(img, nullptr, exposure, 16 + int(state.tonemap), 0.0,
-                             [&] { return toDisplay(*img, exposure, state.tonemap); });
+        return cachedDisplay(img, nullptr, exposure, 16 + std::hash<std::string>()(transformKey), 0.0,
+                             [&] { return toDisplay(*img, exposure, state.displayTransform); });
     };
     // Every view shows the same part of its image (synchronized zoom and pan).
     auto display = [&](const ViewFrame& f, bool reference) -> QImage {
@@ -570,7 +579,7 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
     }
     if (state.diff != DiffMode::Off) {
         drawColourBar(p, size, state.diff, scale);
-    } else if (state.tonemap == Tonemap::FalseColour) {
+    } else if (state.displayTransform.falseColour()) {
         drawFalseColourBar(p, size);
     }
     return frame;

@@ -4,9 +4,9 @@
 // spp and error metrics. Pure functions of their inputs, so that tests can check what a frame shows.
 #pragma once
 
+#include "tyndall/image/colour_management.h"
 #include "tyndall/image/image.h"
 #include "tyndall/image/metrics.h"
-#include "tyndall/image/tonemap.h"
 
 #include <QFont>
 #include <QImage>
@@ -80,7 +80,9 @@ struct CompositorState {
     bool swapped = false;        // split: the reference on the left
     DiffMode diff = DiffMode::Off;
     double exposureOffset = 0.0; // EV added to every view's exposure (E / Shift+E)
-    Tonemap tonemap = Tonemap::Srgb;  // the display transform of every view (M cycles), not of differences
+    // The display transform of every view (the Display box, M cycles; not of differences): an OpenColorIO display
+    // and view, or Tyndall's own operator (false colour adds its colour bar).
+    DisplayTransform displayTransform;
     QRect region;                // image pixels; empty for none: drawn on every view, metrics over it
     double zoom = 1.0;           // >= 1, the same for every view (synchronized)
     QPointF centre{0.5, 0.5};    // what the views centre on, in [0, 1]^2 of the image
@@ -123,9 +125,9 @@ QStringList tileCaption(const ViewFrame& frame, bool reference, int width, const
 // have any size), or empty.
 QString incomparable(const ViewFrame& frame);
 
-// Linear RGB to 8-bit display values after 2^exposure through `op`, like the PNGs the CLI writes (within one 8-bit
-// level for sRGB, which takes a table; exactly for the other operators).
-QImage toDisplay(const Image& image, double exposure, Tonemap op = Tonemap::Srgb);
+// Linear RGB to 8-bit display values after 2^exposure through the display transform, like the PNGs the CLI writes
+// (within one 8-bit level for Tyndall's sRGB, which takes a table; exactly for the others).
+QImage toDisplay(const Image& image, double exposure, const DisplayTransform& transform = {});
 
 // The difference scale shared by every view: 10 % of the mean luminance of the references (or of the image chosen as
 // the reference, Shift+1-9), 1e-3 without any.

@@ -90,7 +90,7 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
     };
     std::vector<MetricsRow> rows;
     const double scale = sharedDifferenceScale(input.frames);
-    const Tonemap tonemap = input.display.tonemap;
+    const DisplayTransform transform = input.display.displayTransform;  // the PNGs' (and the viewport's)
     for (const ViewFrame& f : input.frames) {
         const std::size_t entry = metrics.size();
         report->views.push_back(f.name);
@@ -117,13 +117,13 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
         if (image) {
             viewStep("the image", [image, stem, own] { writeImage(*image, stem + ".exr", own); });
             viewStep("the image's PNG",
-                     [image, stem, exposure, tonemap] { writeImage(*image, stem + ".png", exposure, tonemap); });
+                     [image, stem, exposure, transform] { writeImage(*image, stem + ".png", exposure, transform); });
         }
         const std::shared_ptr<const Image> against = pair.against;
         if (against) {
             viewStep("the reference", [against, stem, own] { writeImage(*against, stem + "-reference.exr", own); });
-            viewStep("the reference's PNG", [against, stem, exposure, tonemap] {
-                writeImage(*against, stem + "-reference.png", exposure, tonemap);
+            viewStep("the reference's PNG", [against, stem, exposure, transform] {
+                writeImage(*against, stem + "-reference.png", exposure, transform);
             });
             viewStep("the difference", [image, against, stem, scale] {
                 writeImage(differenceImage(*image, *against, DifferenceKind::Signed, scale), stem + "-diff.png");
@@ -155,10 +155,11 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
             image ? input.display.region.intersected(QRect(0, 0, image->width(), image->height())) : QRect();
         if (region.isEmpty()) continue;
         const QString insets = dir.filePath(f.name);
-        viewStep("the region's insets", [image, against, insets, region, exposure, tonemap] {
-            if (!toDisplay(*image, exposure, tonemap).copy(region).save(insets + "-region.png"))
+        viewStep("the region's insets", [image, against, insets, region, exposure, transform] {
+            if (!toDisplay(*image, exposure, transform).copy(region).save(insets + "-region.png"))
                 throw std::runtime_error("cannot write the image's inset");
-            if (against && !toDisplay(*against, exposure, tonemap).copy(region).save(insets + "-reference-region.png"))
+            if (against &&
+                !toDisplay(*against, exposure, transform).copy(region).save(insets + "-reference-region.png"))
                 throw std::runtime_error("cannot write the reference's inset");
         });
     }
@@ -211,9 +212,15 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
         writeText("metrics.json", metrics.dump(2) + "\n")();
         writeText("metrics.csv", csv)();
     });
-    const nlohmann::json display = {{"tonemap", tonemapNames()[std::size_t(input.display.tonemap)]},
-                                     {"exposureOffset", input.display.exposureOffset},
-                                     {"differenceScale", scale}};
+    // How the PNGs show the linear values: the OpenColorIO config, display and view, or Tyndall's own operator.
+    nlohmann::json display = {{"exposureOffset", input.display.exposureOffset}, {"differenceScale", scale}};
+    if (transform.isOcio()) {
+        display["display"] = transform.display();
+        display["view"] = transform.view();
+        display["ocioConfig"] = transform.config()->file().empty() ? "raw" : transform.config()->file();
+    } else {
+        display["tonemap"] = transform.name();
+    }
     steps.push_back(writeText("display.json", display.dump(2) + "\n"));
     steps.push_back([frame = input.viewport, path = dir.filePath("viewport.png")] {
         if (!frame.save(path)) throw std::runtime_error("cannot write viewport.png");

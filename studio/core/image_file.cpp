@@ -18,7 +18,7 @@ namespace tyndall::studio {
 namespace {
 
 // The formats beyond the library's EXR and PNG (HDR, PFM, JPEG, TIFF, BMP, TGA), through OpenImageIO: the first
-// subimage, every channel as float. Bounded as the library's reader is (2^28 values, 64 channels).
+// subimage, every channel as float, bounded as the library's reader is.
 Image readOtherFormat(const std::string& path) {
     std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
     const auto failed = [&](const std::string& local) {
@@ -30,13 +30,7 @@ Image readOtherFormat(const std::string& path) {
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.deep || spec.depth > 1)
         throw InputError(InputLocation{.file = path}, "cannot read image: deep or volume images are not supported");
-    constexpr std::int64_t kMaxValues = std::int64_t(1) << 28;
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.nchannels > 64 ||
-        std::int64_t(spec.width) * spec.height * spec.nchannels > kMaxValues)
-        throw InputError(InputLocation{.file = path}, "cannot read image: " + std::to_string(spec.width) + " x " +
-                                                          std::to_string(spec.height) + " pixels of " +
-                                                          std::to_string(spec.nchannels) +
-                                                          " channels; at most 2^28 values and 64 channels are read");
+    checkReadableImageSize(path, spec.width, spec.height, spec.nchannels);
     std::vector<std::string> names;
     for (int c = 0; c < spec.nchannels; ++c) {
         std::string name = c < int(spec.channelnames.size()) ? spec.channelnames[std::size_t(c)] : "";
@@ -60,7 +54,7 @@ bool isImageFile(const QString& path) {
     return images.contains(QFileInfo(path).suffix().toLower());
 }
 
-ImageFile readImageFile(const QString& path) {
+ImageFile readImageFile(const QString& path, const ColourConfig* config) {
     const QString suffix = QFileInfo(path).suffix().toLower();
     if (!isImageFile(path))
         throw InputError(path.toStdString() + ": not an image the studio opens (EXR, HDR, PFM, PNG, JPEG, TIFF, BMP, TGA)");
@@ -81,18 +75,28 @@ ImageFile readImageFile(const QString& path) {
         throw InputError(path.toStdString() + ": two channels (grey and alpha?) are not an RGB image; save it as RGB");
     }
     ImageFile file;
-    file.displayReferred = !linearFormat(suffix);
+    // The file's colour space: its own attribute (EXR) when the config knows it, else the config's file rules.
+    std::string space;
+    for (const char* key : {"colorSpace", "colorspace", "oiio:ColorSpace"})
+        if (auto it = source.metadata.find(key); config && space.empty() && it != source.metadata.end())
+            if (config->hasColourSpace(it->second)) space = it->second;
+    if (config && space.empty()) space = config->colourSpaceOfFile(path.toStdString());
+    file.displayReferred = space.empty() ? !linearFormat(suffix) : space != config->sceneLinear();
     auto image = std::make_shared<Image>(Image::rgb(source.width(), source.height()));
     for (int y = 0; y < source.height(); ++y)
         for (int x = 0; x < source.width(); ++x)
             for (int c = 0; c < 3; ++c) {
                 const float v = source.at(x, y, channels[c]);
-                image->at(x, y, c) = file.displayReferred ? srgbDecode(v) : v;
+                image->at(x, y, c) = space.empty() && file.displayReferred ? srgbDecode(v) : v;
             }
+    if (!space.empty()) config->toSceneLinear(*image, space);  // InputError naming the space
     image->metadata = source.metadata;
     image->metadata["sourceFile"] = QFileInfo(path).absoluteFilePath().toStdString();
     file.image = std::move(image);
-    file.kind = suffix.toUpper() + (file.displayReferred ? " (sRGB decoded)" : "");
+    file.kind = suffix.toUpper() + (!space.empty() && space != config->sceneLinear()
+                                        ? " (" + QString::fromStdString(space) + ")"
+                                    : space.empty() && file.displayReferred ? QString(" (sRGB decoded)")
+                                                                            : QString());
     return file;
 }
 

@@ -3,6 +3,7 @@
 #include "trace.h"
 
 #include "shared/camera.h"
+#include "tyndall/core/error.h"
 #include "tyndall/core/geometry.h"
 #include "tyndall/framework/shader_params.h"
 #include "tyndall/techniques/registry.h"
@@ -17,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <set>
 
@@ -101,6 +103,8 @@ Studio::Studio(std::vector<std::string> overrides, QObject* parent)
     // The impulses' markers follow the scene (an impulse, a step, the camera).
     connect(&session_, &Session::sceneChanged, this, &Studio::updateImpulseMarkers);
     connect(&session_, &Session::projectReplaced, this, &Studio::updateImpulseMarkers);
+    // The display transforms of $OCIO's config, else the shipped one; the window says why one was passed over.
+    setColourConfig(ColourConfig::load(), false);
 }
 
 Studio::~Studio() {
@@ -318,7 +322,7 @@ QString Studio::status(QString* details) const {
 
 int Studio::openImageView(const QString& path, QString* error) {
     try {
-        const ImageFile file = readImageFile(path);
+        const ImageFile file = readImageFile(path, colourConfig_.get());
         const int view = model_->addImage(QFileInfo(path).fileName(), file.kind, file.image);
         emit viewListChanged();
         selectView(view);
@@ -396,8 +400,47 @@ void Studio::setLayoutMode(Layout layout) {
     recompose();
 }
 
+void Studio::setColourConfig(std::shared_ptr<const ColourConfig> config, bool announce) {
+    colourConfig_ = std::move(config);
+    for (const std::string& warning : announce ? colourConfig_->warnings() : std::vector<std::string>{}) {
+        std::fprintf(stderr, "tyndall-studio: %s\n", warning.c_str());
+        say(QString::fromStdString(warning), 30000);
+    }
+    displayTransforms_.clear();
+    for (const std::string& display : colourConfig_->displays())
+        for (const std::string& view : colourConfig_->views(display)) {
+            try {
+                displayTransforms_.emplace_back(colourConfig_, display, view);
+            } catch (const InputError& e) {  // a view the config lists but cannot build: said, and left out
+                std::fprintf(stderr, "tyndall-studio: %s\n", e.what());
+                say(QString::fromStdString(e.what()), 30000);
+            }
+        }
+    for (std::size_t op = 0; op < tonemapNames().size(); ++op)
+        displayTransforms_.emplace_back(Tonemap(op));
+    const std::string display = colourConfig_->defaultDisplay();
+    const std::string view = colourConfig_->defaultView(display);
+    state_.displayTransform = Tonemap::Srgb;
+    for (const DisplayTransform& t : displayTransforms_)
+        if (t.isOcio() && t.display() == display && t.view() == view) state_.displayTransform = t;
+    emit colourConfigChanged();
+    recompose();
+}
+
+int Studio::displayTransformIndex() const {
+    for (std::size_t i = 0; i < displayTransforms_.size(); ++i)
+        if (displayTransforms_[i] == state_.displayTransform) return int(i);
+    return -1;
+}
+
+void Studio::setDisplayTransform(int index) {
+    if (index < 0 || index >= int(displayTransforms_.size())) return;
+    state_.displayTransform = displayTransforms_[std::size_t(index)];
+    recompose();
+}
+
 void Studio::setTonemap(Tonemap op) {
-    state_.tonemap = op;
+    state_.displayTransform = op;
     recompose();
 }
 
@@ -406,8 +449,8 @@ void Studio::setSmoothPreviews(bool smooth) {
     recompose();
 }
 
-void Studio::cycleTonemap() {
-    setTonemap(Tonemap((int(state_.tonemap) + 1) % int(tonemapNames().size())));
+void Studio::cycleDisplayTransform() {
+    setDisplayTransform((displayTransformIndex() + 1) % int(displayTransforms_.size()));
 }
 
 void Studio::cycleDifference() {

@@ -118,9 +118,18 @@ public:
 
     // --- The display (compositor.h): each asks for a frame of the new state.
     void setLayoutMode(Layout layout);
-    void setTonemap(Tonemap op);
+    // The display transforms on offer: each display and view of the OpenColorIO config, then Tyndall's own operators
+    // (sRGB, Reinhard, the ACES fit, false colour). The config is $OCIO's, else the shipped one (ColourConfig::load,
+    // quietly) until setColourConfig, which shows the config's default display and view and, with `announce`, says
+    // its warnings (a config passed over, and why) on the status bar and stderr.
+    const std::shared_ptr<const ColourConfig>& colourConfig() const { return colourConfig_; }
+    void setColourConfig(std::shared_ptr<const ColourConfig> config, bool announce = true);
+    const std::vector<DisplayTransform>& displayTransforms() const { return displayTransforms_; }
+    int displayTransformIndex() const;  // of the current one in displayTransforms()
+    void setDisplayTransform(int index);
+    void setTonemap(Tonemap op);          // Tyndall's own operator
     void setSmoothPreviews(bool smooth);  // reduced images scaled up bilinearly, else nearest
-    void cycleTonemap();
+    void cycleDisplayTransform();         // M
     void cycleDifference();  // off, signed, absolute, relative
     void swapSides();        // of the wipe
     void offsetExposure(double stops);
@@ -198,6 +207,7 @@ signals:
     void viewListChanged();             // views authored (added, renamed, removed), image views opened or closed
     void currentViewChanged(int view);  // also after viewsRebuilt
     void displayChanged();              // the compositor's state (layout, tonemap, exposure offset, zoom, ...)
+    void colourConfigChanged();         // displayTransforms() are another config's
     void phasesChanged();               // the phase curves or the LTSD fit to plot
     void snapshotTaken(int index);
     void frameComposed(const QImage& frame);
@@ -228,6 +238,8 @@ private:
     Composer* composer_;
     CameraController camera_{session_};
     CompositorState state_;
+    std::shared_ptr<const ColourConfig> colourConfig_;
+    std::vector<DisplayTransform> displayTransforms_;
     LtsdTables ltsdTables_;
     std::function<QSize()> viewportSize_;
     std::function<std::vector<PlotFile>()> plotFiles_;

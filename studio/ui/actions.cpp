@@ -177,11 +177,12 @@ void addStudioActions(ActionTable& table, MainWindow& window) {
                {QKeySequence("D")},
                [&studio] { studio.cycleDifference(); },
                "layoutToolbar"});
-    table.add({"tonemap",
+    table.add({"display",
                view,
-               "Cycle &tonemap operator (sRGB, Reinhard, ACES, false colour)",
+               "Cycle the display &transform (OpenColorIO's views, then Tyndall's sRGB, Reinhard, ACES fit, false "
+               "colour)",
                {QKeySequence("M")},
-               [&studio] { studio.cycleTonemap(); }});
+               [&studio] { studio.cycleDisplayTransform(); }});
     table.add({"swap",
                view,
                "Swap the wipe's sides",

@@ -5,6 +5,7 @@
 #include "tyndall/core/resources.h"
 #include "tyndall/techniques/render.h"
 
+#include <QActionGroup>
 #include <QCloseEvent>
 #include <QComboBox>
 #include <QCoreApplication>
@@ -36,10 +37,11 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 
 namespace tyndall::studio {
 
-MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrides)
+MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrides, const QString& ocioConfig)
     : studio_(std::move(overrides)),
       viewport_(new Viewport),
       views_(new ViewsDock(studio_, this)),
@@ -67,24 +69,26 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
 
     actions_ = new ActionTable(this);
     addStudioActions(*actions_, *this);
-    // The tonemap operator, on the layout toolbar before the wipe's swap (M cycles).
-    tonemap_ = new QComboBox;
-    tonemap_->setObjectName("tonemap");
-    tonemap_->setToolTip(
-        "Tonemap operator, after the exposure (M cycles): sRGB clamps; Reinhard compresses "
-        "luminance, keeping hue; ACES is Narkowicz's filmic fit; false colour maps log2 "
-        "luminance to viridis");
-    for (const std::string& name : tonemapNames())
-        tonemap_->addItem(QString::fromStdString(name));
-    connect(tonemap_, &QComboBox::currentIndexChanged, &studio_, [this](int i) { studio_.setTonemap(Tonemap(i)); });
+    // The display transform, on the layout toolbar before the wipe's swap (M cycles), and in View > Display.
+    display_ = new QComboBox;
+    display_->setObjectName("display");
+    display_->setSizeAdjustPolicy(QComboBox::AdjustToContents);
+    connect(display_, &QComboBox::currentIndexChanged, &studio_, [this](int i) {
+        if (i >= 0 && display_->itemData(i).isValid()) studio_.setDisplayTransform(display_->itemData(i).toInt());
+    });
     QToolBar* layoutBar = actions_->toolbar("layoutToolbar", "Layout");
     QAction* swap = actions_->action("swap");
-    layoutBar->insertSeparator(layoutBar->insertWidget(swap, tonemap_));
+    layoutBar->insertSeparator(layoutBar->insertWidget(swap, display_));
+    displayMenu_ = actions_->menu("&View/Dis&play");
+    displayMenu_->setObjectName("displayMenu");
     controller_ = new ViewportController(studio_, *viewport_, *actions_, this);
 
     placeDocks();
     buildStatusBar();
     connectStudio();
+    connect(&studio_, &Studio::colourConfigChanged, this, &MainWindow::rebuildDisplayMenus);
+    // The config again, now that the status bar can say why one was passed over.
+    studio_.setColourConfig(ColourConfig::load(ocioConfig.toStdString(), "--ocio"));
     refreshRecentMenu();
     updateAnimationActions();
     setAcceptDrops(true);
@@ -222,15 +226,81 @@ void MainWindow::connectStudio() {
             });
 }
 
+namespace {
+
+// How the box and the menu name a display transform: "sRGB / Standard", or Tyndall's operator.
+QString displayLabel(const DisplayTransform& t) {
+    if (t.isOcio()) return QString::fromStdString(t.display() + " / " + t.view());
+    static const char* names[] = {"Tyndall: sRGB (clamped)", "Tyndall: Reinhard", "Tyndall: ACES fit",
+                                  "Tyndall: false colour"};
+    return names[int(t.tonemap())];
+}
+
+}  // namespace
+
+void MainWindow::rebuildDisplayMenus() {
+    const std::vector<DisplayTransform>& transforms = studio_.displayTransforms();
+    const QString config = QString::fromStdString(studio_.colourConfig()->describe());
+    {
+        const QSignalBlocker block(display_);
+        display_->clear();
+        for (std::size_t i = 0; i < transforms.size(); ++i) {
+            if (i > 0 && !transforms[i].isOcio() && transforms[i - 1].isOcio())
+                display_->insertSeparator(display_->count());
+            display_->addItem(displayLabel(transforms[i]), int(i));
+        }
+    }
+    display_->setToolTip("Display transform, after the exposure (M cycles): the displays and views of " + config +
+                         " (OpenColorIO; --ocio or $OCIO choose another), then Tyndall's own operators: sRGB clamps, "
+                         "Reinhard compresses luminance keeping hue, the ACES fit is Narkowicz's, false colour maps "
+                         "log2 luminance to viridis");
+    // The menu: a submenu per display with its views, then Tyndall's operators; one checked.
+    for (QMenu* sub : displayMenu_->findChildren<QMenu*>(Qt::FindDirectChildrenOnly))
+        sub->deleteLater();
+    displayMenu_->clear();
+    delete displayActions_;
+    displayActions_ = new QActionGroup(this);
+    displayActions_->setExclusive(true);
+    QAction* source = displayMenu_->addAction("OpenColorIO: " + config);
+    source->setEnabled(false);
+    std::map<std::string, QMenu*> displays;
+    for (std::size_t i = 0; i < transforms.size(); ++i) {
+        const DisplayTransform& t = transforms[i];
+        QMenu* into = displayMenu_;
+        QString text = displayLabel(t);
+        if (t.isOcio()) {
+            QMenu*& sub = displays[t.display()];
+            if (!sub) sub = displayMenu_->addMenu(QString::fromStdString(t.display()));
+            into = sub;
+            text = QString::fromStdString(t.view());
+        } else if (i > 0 && transforms[i - 1].isOcio()) {
+            displayMenu_->addSeparator();
+        }
+        QAction* a = into->addAction(text);
+        a->setCheckable(true);
+        a->setData(int(i));
+        displayActions_->addAction(a);
+        connect(a, &QAction::triggered, &studio_, [this, i] { studio_.setDisplayTransform(int(i)); });
+    }
+    updateDisplay();
+}
+
 void MainWindow::updateDisplay() {
     const CompositorState& state = studio_.compositorState();
     static const char* layouts[] = {"layout:grid", "layout:single", "layout:split"};
     if (QAction* a = actions_ ? actions_->action(layouts[int(state.layout)]) : nullptr; a && !a->isChecked())
         a->setChecked(true);
-    if (tonemap_ && tonemap_->currentIndex() != int(state.tonemap)) {
-        const QSignalBlocker block(tonemap_);
-        tonemap_->setCurrentIndex(int(state.tonemap));
+    const int transform = studio_.displayTransformIndex();
+    if (display_) {
+        const int item = display_->findData(transform);
+        if (item >= 0 && display_->currentIndex() != item) {
+            const QSignalBlocker block(display_);
+            display_->setCurrentIndex(item);
+        }
     }
+    if (displayActions_)
+        for (QAction* a : displayActions_->actions())
+            if (a->data().toInt() == transform && !a->isChecked()) a->setChecked(true);
     if (!displayStatus_) return;
     const QString text = QString("display exposure offset %1%2 EV  |  zoom %3x")
                              .arg(state.exposureOffset >= 0.0 ? "+" : "")

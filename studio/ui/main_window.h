@@ -16,7 +16,9 @@
 #include <string>
 #include <vector>
 
+class QActionGroup;
 class QComboBox;
+class QMenu;
 class QDialog;
 class QLabel;
 class QVulkanInstance;
@@ -27,7 +29,8 @@ class MainWindow : public QMainWindow {
     Q_OBJECT
 public:
     // `overrides` apply to every project opened (the command line's --set, e.g. a smaller camera for tests).
-    MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrides = {});
+    // `ocioConfig`: the OpenColorIO config of the display transforms (--ocio; empty: $OCIO, else the shipped one).
+    MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrides = {}, const QString& ocioConfig = {});
     ~MainWindow() override;
 
     Studio& studio() { return studio_; }
@@ -85,7 +88,9 @@ private:
     void placeDocks();
     void buildStatusBar();
     void connectStudio();
-    void updateDisplay();  // what follows the display state: the layout actions, the tonemap box, the status label
+    void updateDisplay();  // what follows the display state: the layout actions, the display box and menu, the status
+    // The Display box and the View > Display menu: the config's displays and views, then Tyndall's own operators.
+    void rebuildDisplayMenus();
     void addAnimationClock();       // the animation toolbar's pace and its step / simulated time
     void updateAnimationActions();  // enabled, and the toolbar shown, only for a project with a particle medium
     void refreshRecentMenu();
@@ -101,7 +106,9 @@ private:
     SnapshotsDock* snapshots_;
     PlotsDock* plots_;
     SceneDock* scene_;
-    QComboBox* tonemap_ = nullptr;
+    QComboBox* display_ = nullptr;
+    QMenu* displayMenu_ = nullptr;
+    QActionGroup* displayActions_ = nullptr;
     QLabel* renderStatus_ = nullptr;
     QLabel* displayStatus_ = nullptr;
     QDialog* shortcuts_ = nullptr;

@@ -1,6 +1,7 @@
 #include "tyndall/image/flip.h"
 
 #include "tyndall/core/error.h"
+#include "tyndall/image/colour_map.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -481,6 +482,19 @@ std::vector<FlipHistogramBin> flipHistogram(const std::vector<float>& error, int
         for (FlipHistogramBin& b : out)
             b.weightedShare /= total;
     return out;
+}
+
+Image flipColourMap(const std::vector<float>& error, int width, int height) {
+    TY_CHECK(error.size() == std::size_t(width) * std::size_t(height), "flipColourMap: one error per pixel");
+    Image map = Image::rgb(width, height);
+    tbb::parallel_for(0, height, [&](int y) {
+        for (int x = 0; x < width; ++x) {
+            const Rgb c = magma(error[std::size_t(y) * std::size_t(width) + std::size_t(x)]);
+            for (int k = 0; k < 3; ++k)
+                map.at(x, y, k) = float(c[k]);
+        }
+    });
+    return map;
 }
 
 FlipStatistics flipStatistics(const std::vector<float>& error) {

@@ -26,6 +26,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -134,37 +135,105 @@ std::string encodeExr(const Image& image) {
     return bytes;
 }
 
-std::vector<std::uint8_t> pngPixels(const Image& image, double exposure, Tonemap op, const std::string& path) {
+std::vector<std::uint8_t> pngPixels(const Image& image, double exposure, const DisplayTransform& display,
+                                    const std::string& path) {
     Image rgb;
     try {
         rgb = image.select({"R", "G", "B"});
     } catch (const InputError& e) {
         throw writeError(path, "a PNG needs channels R, G, B (" + e.message() + ")");
     }
+    display.apply(rgb.data(), std::size_t(rgb.width()) * std::size_t(rgb.height()), exposure);
     std::vector<std::uint8_t> bytes(rgb.size());
-    for (std::size_t i = 0; i + 2 < bytes.size(); i += 3) {
-        const float* p = rgb.data() + i;
-        const std::array<float, 3> d = tonemapRgb(p[0], p[1], p[2], exposure, op);
-        for (int c = 0; c < 3; ++c) bytes[i + std::size_t(c)] = static_cast<std::uint8_t>(std::lround(d[std::size_t(c)] * 255.0f));
-    }
+    for (std::size_t i = 0; i < bytes.size(); ++i)
+        bytes[i] = static_cast<std::uint8_t>(std::lround(rgb.data()[i] * 255.0f));
     return bytes;
 }
 
-// libpng's simplified API, which frees everything it allocated on every path.
-std::string encodePng(const Image& image, double exposure, Tonemap op, const std::string& path) {
-    const std::vector<std::uint8_t> pixels = pngPixels(image, exposure, op, path);
-    png_image png{};
-    png.version = PNG_IMAGE_VERSION;
-    png.width = static_cast<png_uint_32>(image.width());
-    png.height = static_cast<png_uint_32>(image.height());
-    png.format = PNG_FORMAT_RGB;  // 8-bit sRGB values: written with an sRGB chunk
-    png_alloc_size_t size = 0;
-    if (!png_image_write_to_memory(&png, nullptr, &size, 0, pixels.data(), 0, nullptr))
-        throw OutputError("cannot encode PNG: " + std::string(png.message));
-    std::string bytes(size, '\0');
-    if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, pixels.data(), 0, nullptr))
-        throw OutputError("cannot encode PNG: " + std::string(png.message));
-    bytes.resize(size);
+// libpng reports errors through a callback that must not return: it records the message (in the string given as the
+// error pointer) and jumps back to the caller's setjmp. Warnings are ignored.
+void pngError(png_structp png, png_const_charp message) {
+    *static_cast<std::string*>(png_get_error_ptr(png)) = message;
+    png_longjmp(png, 1);
+}
+
+void pngWarning(png_structp, png_const_charp) {}
+
+struct PngWrite {
+    png_structp png = nullptr;
+    png_infop info = nullptr;
+    std::string message;
+    ~PngWrite() { png_destroy_write_struct(&png, &info); }
+};
+
+// The image's metadata and how its values were shown (the display transform and exposure), as PNG text chunks under
+// the keys "tyndall:KEY" that readPng gives back as metadata; long values compressed (zTXt).
+std::vector<std::pair<std::string, std::string>> pngText(const Image& image, double exposure,
+                                                         const DisplayTransform& display) {
+    std::map<std::string, std::string> entries(image.metadata.begin(), image.metadata.end());
+    if (display.isOcio()) {
+        entries["display"] = display.display();
+        entries["view"] = display.view();
+        entries["ocioConfig"] = display.config()->file().empty() ? "raw" : display.config()->file();
+        entries.erase("tonemap");
+    } else {
+        entries["tonemap"] = display.name();
+        for (const char* key : {"display", "view", "ocioConfig"})
+            entries.erase(key);
+    }
+    entries["displayExposure"] = std::to_string(exposure);
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const auto& [key, value] : entries) {
+        const std::string name = std::string(kMetadataPrefix) + key;
+        if (name.size() <= 79) out.emplace_back(name, value);  // PNG's limit on a keyword
+    }
+    return out;
+}
+
+// The libpng calls on their own, so that nothing but libpng's state lives across its setjmp.
+void writePng(PngWrite& write, std::string& bytes, int width, int height, bool srgb, std::vector<png_text>& chunks,
+              std::vector<png_bytep>& rows) {
+    write.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &write.message, pngError, pngWarning);
+    if (!write.png) throw std::bad_alloc();
+    write.info = png_create_info_struct(write.png);
+    if (!write.info) throw std::bad_alloc();
+    if (setjmp(png_jmpbuf(write.png))) throw OutputError("cannot encode PNG: " + write.message);
+    png_set_write_fn(
+        write.png, &bytes,
+        [](png_structp png, png_bytep data, png_size_t size) {
+            static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data), size);
+        },
+        [](png_structp) {});
+    png_set_IHDR(write.png, write.info, png_uint_32(width), png_uint_32(height), 8, PNG_COLOR_TYPE_RGB,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (srgb) png_set_sRGB_gAMA_and_cHRM(write.png, write.info, PNG_sRGB_INTENT_PERCEPTUAL);
+    png_set_text(write.png, write.info, chunks.data(), int(chunks.size()));
+    png_set_rows(write.png, write.info, rows.data());
+    png_write_png(write.png, write.info, PNG_TRANSFORM_IDENTITY, nullptr);
+}
+
+std::string encodePng(const Image& image, double exposure, const DisplayTransform& display, const std::string& path) {
+    const std::vector<std::uint8_t> pixels = pngPixels(image, exposure, display, path);
+    std::vector<std::pair<std::string, std::string>> text = pngText(image, exposure, display);
+    std::vector<png_text> chunks(text.size());
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        chunks[i].compression = text[i].second.size() > 1024 ? PNG_TEXT_COMPRESSION_zTXt : PNG_TEXT_COMPRESSION_NONE;
+        chunks[i].key = text[i].first.data();
+        chunks[i].text = text[i].second.data();
+        chunks[i].text_length = text[i].second.size();
+    }
+    std::vector<png_bytep> rows(static_cast<std::size_t>(image.height()));
+    for (std::size_t y = 0; y < rows.size(); ++y)
+        rows[y] = const_cast<png_bytep>(pixels.data() + y * std::size_t(image.width()) * 3);
+    // Tyndall's operators and an OpenColorIO sRGB display make sRGB values: said by an sRGB chunk, which other
+    // displays (Rec.1886, P3) leave out rather than mislabel.
+    std::string displayName = display.display();
+    std::transform(displayName.begin(), displayName.end(), displayName.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    const bool srgb = !display.isOcio() || displayName.find("srgb") != std::string::npos;
+    std::string bytes;
+    PngWrite write;
+    writePng(write, bytes, image.width(), image.height(), srgb, chunks, rows);
     return bytes;
 }
 
@@ -183,17 +252,6 @@ std::vector<int> channelPermutation(const std::vector<std::string>& read, const 
         permutation.push_back(static_cast<int>(it - read.begin()));
     }
     return permutation;
-}
-
-void checkSize(const std::string& path, std::int64_t width, std::int64_t height, std::int64_t channels) {
-    if (width <= 0 || height <= 0 || channels <= 0) throw readError(path, "the image is empty");
-    if (channels > kMaxReadChannels || width > kMaxReadValues || height > kMaxReadValues ||
-        width * height * channels > kMaxReadValues) {
-        throw readError(path, std::to_string(width) + " x " + std::to_string(height) + " pixels of " +
-                                  std::to_string(channels) + " channels; at most " + std::to_string(kMaxReadValues) +
-                                  " values (pixels x channels) and " + std::to_string(kMaxReadChannels) +
-                                  " channels are read");
-    }
 }
 
 // The data window of the first part, at full resolution (level 0 of a tiled file), every channel converted to float.
@@ -217,7 +275,7 @@ Image readExr(const std::string& path) {
         }
         names.emplace_back(it.name());
     }
-    checkSize(path, width, height, static_cast<std::int64_t>(names.size()));
+    checkReadableImageSize(path, width, height, static_cast<std::int64_t>(names.size()));
 
     Image image(static_cast<int>(width), static_cast<int>(height), names);
     const std::size_t pixelStride = sizeof(float) * names.size();
@@ -252,7 +310,7 @@ Image readExr(const std::string& path) {
     return image;
 }
 
-// libpng reports errors through a callback that must not return: it records the message and jumps back to readPng.
+// The read state, freed on every path (a jump back from pngError included).
 struct PngRead {
     png_structp png = nullptr;
     png_infop info = nullptr;
@@ -272,15 +330,10 @@ Image readPng(const std::string& path) {
     std::vector<std::uint8_t> bytes;
     std::vector<png_bytep> rows;
     Image image;
+    std::map<std::string, std::string> metadata;
     read.file = std::fopen(path.c_str(), "rb");
     if (!read.file) throw readError(path, std::strerror(errno));
-    read.png = png_create_read_struct(
-        PNG_LIBPNG_VER_STRING, &read.message,
-        [](png_structp png, png_const_charp message) {
-            *static_cast<std::string*>(png_get_error_ptr(png)) = message;
-            png_longjmp(png, 1);
-        },
-        [](png_structp, png_const_charp) {});
+    read.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &read.message, pngError, pngWarning);
     if (!read.png) throw std::bad_alloc();
     read.info = png_create_info_struct(read.png);
     if (!read.info) throw std::bad_alloc();
@@ -290,11 +343,18 @@ Image readPng(const std::string& path) {
     png_set_expand(read.png);  // palette to RGB, < 8 bits to 8, tRNS to alpha
     if (png_get_bit_depth(read.png, read.info) == 16) png_set_swap(read.png);  // to this machine's byte order
     png_read_update_info(read.png, read.info);
+    png_textp text = nullptr;
+    const int texts = png_get_text(read.png, read.info, &text, nullptr);
+    for (int i = 0; i < texts; ++i) {
+        const std::string key = text[i].key;
+        if (key.starts_with(kMetadataPrefix))
+            metadata[key.substr(kMetadataPrefix.size())] = std::string(text[i].text, text[i].text_length);
+    }
     const std::int64_t width = png_get_image_width(read.png, read.info);
     const std::int64_t height = png_get_image_height(read.png, read.info);
     const int channels = png_get_channels(read.png, read.info);
     const int depth = png_get_bit_depth(read.png, read.info);
-    checkSize(path, width, height, channels);
+    checkReadableImageSize(path, width, height, channels);
     const std::size_t rowBytes = png_get_rowbytes(read.png, read.info);
     bytes.resize(rowBytes * static_cast<std::size_t>(height));
     rows.resize(static_cast<std::size_t>(height));
@@ -316,13 +376,17 @@ Image readPng(const std::string& path) {
         for (std::size_t i = 0; i < values; ++i)
             image.data()[i] = static_cast<float>(bytes[i]) / 255.0f;
     }
+    image.metadata.insert(metadata.begin(), metadata.end());
     return image;
 }
 
-bool startsWith(const std::string& path, const std::string_view magic) {
+// The file's first bytes, as many as the longest magic number (fewer for a shorter file).
+std::string fileHead(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    std::string head(magic.size(), '\0');
-    return in.read(head.data(), static_cast<std::streamsize>(head.size())) && head == magic;
+    std::string head(8, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+    return head;
 }
 
 constexpr std::string_view kExrMagic("\x76\x2f\x31\x01", 4);
@@ -330,11 +394,22 @@ constexpr std::string_view kPngMagic("\x89PNG\r\n\x1a\n", 8);
 
 }  // namespace
 
-std::string encodeImage(const Image& image, const std::string& path, double exposure, Tonemap op) {
+void checkReadableImageSize(const std::string& path, std::int64_t width, std::int64_t height, std::int64_t channels) {
+    if (width <= 0 || height <= 0 || channels <= 0) throw readError(path, "the image is empty");
+    if (channels > kMaxReadChannels || width > kMaxReadValues || height > kMaxReadValues ||
+        width * height * channels > kMaxReadValues) {
+        throw readError(path, std::to_string(width) + " x " + std::to_string(height) + " pixels of " +
+                                  std::to_string(channels) + " channels; at most " + std::to_string(kMaxReadValues) +
+                                  " values (pixels x channels) and " + std::to_string(kMaxReadChannels) +
+                                  " channels are read");
+    }
+}
+
+std::string encodeImage(const Image& image, const std::string& path, double exposure, const DisplayTransform& display) {
     const Format format = formatOf(path);
     if (image.empty() || image.channelCount() == 0) throw writeError(path, "the image is empty");
     try {
-        return format == Format::Exr ? encodeExr(image) : encodePng(image, exposure, op, path);
+        return format == Format::Exr ? encodeExr(image) : encodePng(image, exposure, display, path);
     } catch (const InputError&) {
         throw;
     } catch (const OutputError&) {
@@ -344,13 +419,13 @@ std::string encodeImage(const Image& image, const std::string& path, double expo
     }
 }
 
-void writeImage(const Image& image, const std::string& path, double exposure, Tonemap op) {
+void writeImage(const Image& image, const std::string& path, double exposure, const DisplayTransform& display) {
     const fs::path directory = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
     std::error_code ec;
     if (!fs::is_directory(directory, ec)) {
         throw writeError(path, "directory \"" + directory.string() + "\" does not exist");
     }
-    writeFileAtomically(path, encodeImage(image, path, exposure, op));
+    writeFileAtomically(path, encodeImage(image, path, exposure, display));
 }
 
 namespace {
@@ -362,7 +437,8 @@ Image readImageFile(const std::string& path, const std::string* openExrAs) {
     if (!fs::exists(path, ec)) throw readError(path, "no such file");
     if (!fs::is_regular_file(path, ec)) throw readError(path, "not a regular file");
 
-    const bool exr = startsWith(path, kExrMagic), png = !exr && startsWith(path, kPngMagic);
+    const std::string head = fileHead(path);
+    const bool exr = head.starts_with(kExrMagic), png = head.starts_with(kPngMagic);
     if (openExrAs && !exr) {
         // By its content too: a PNG renamed .exr is still display values.
         throw InputError(InputLocation{.file = path, .field = *openExrAs},

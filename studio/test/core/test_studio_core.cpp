@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace tyndall;
@@ -263,7 +264,7 @@ private slots:
         for (bool falseColour : {false, true}) {
             CompositorState bars;
             bars.diff = falseColour ? DiffMode::Off : DiffMode::Signed;
-            bars.tonemap = falseColour ? Tonemap::FalseColour : Tonemap::Srgb;
+            bars.displayTransform = falseColour ? Tonemap::FalseColour : Tonemap::Srgb;
             for (QSize frame : {QSize(400, 300), QSize(900, 260), QSize(300, 600)})
                 for (const QRect& r : viewRects(frames, bars, frame))
                     QVERIFY2(
@@ -430,6 +431,29 @@ private slots:
         for (const char* file : {"metrics.json", "metrics.csv", "display.json", "viewport.png"})
             QVERIFY2(QFile::exists(dir.filePath(file)), file);
         QVERIFY(QFile::exists(dir.filePath(studio.frames()[0].name + ".exr")));
+        // The PNGs went through the display transform the viewport shows, said in display.json and in each PNG: the
+        // shipped config's default, then its ACES view.
+        const auto displayJson = [&] {
+            QFile f(dir.filePath("display.json"));
+            return f.open(QIODevice::ReadOnly) ? nlohmann::json::parse(f.readAll().toStdString()) : nlohmann::json();
+        };
+        QCOMPARE(displayJson().value("display", ""), std::string("sRGB"));
+        QCOMPARE(displayJson().value("view", ""), std::string("Standard"));
+        QCOMPARE(displayJson().value("ocioConfig", ""), ColourConfig::shippedConfigPath().string());
+        const std::vector<DisplayTransform>& transforms = studio.displayTransforms();
+        const auto aces = std::find_if(transforms.begin(), transforms.end(),
+                                       [](const DisplayTransform& t) { return t.view() == "ACES 1.0 - SDR Video"; });
+        QVERIFY(aces != transforms.end());
+        studio.setDisplayTransform(int(aces - transforms.begin()));
+        QTemporaryDir again;
+        QVERIFY2(studio.exportComparison(again.path(), &error), qPrintable(error));
+        QFile second(again.filePath("display.json"));
+        QVERIFY(second.open(QIODevice::ReadOnly));
+        QCOMPARE(nlohmann::json::parse(second.readAll().toStdString()).value("view", ""),
+                 std::string("ACES 1.0 - SDR Video"));
+        const Image png = readImage(again.filePath(studio.frames()[0].name + ".png").toStdString());
+        QCOMPARE(png.metadata.at("view"), std::string("ACES 1.0 - SDR Video"));
+        QCOMPARE(png.metadata.at("display"), std::string("sRGB"));
         studio.waitForBackgroundWork();
     }
 
@@ -566,6 +590,7 @@ private slots:
 };
 
 int main(int argc, char** argv) {
+    qunsetenv("OCIO");  // the shipped OpenColorIO config's display transforms, whatever the user's $OCIO
     QGuiApplication app(argc, argv);
     QGuiApplication::setOrganizationName("Tyndall");
     QGuiApplication::setApplicationName("Tyndall Studio core tests");

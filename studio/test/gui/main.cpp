@@ -47,6 +47,8 @@ int main(int argc, char** argv) {
         for (const auto& [name, make] : flows)
             chosen.emplace_back(name, make);
 
+    // The display transforms of the shipped OpenColorIO config, whatever the user's $OCIO (a flow sets its own).
+    qunsetenv("OCIO");
     QApplication app(argc, argv);
     QStandardPaths::setTestModeEnabled(true);  // settings and autosaves in a test location, not the user's
     QApplication::setOrganizationName("Tyndall");

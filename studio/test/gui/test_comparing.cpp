@@ -287,11 +287,12 @@ private slots:
         QTRY_VERIFY(window_->studio().frames()[0].metrics);
         window_->studio().chooseReferenceView(-1);
 
-        // A PNG holds display values: decoded with the sRGB curve, to within 8 bits of the clipped original.
+        // A PNG holds display values: decoded through the shipped config's file rule for PNG (sRGB - Texture, the
+        // sRGB curve), to within 8 bits of the clipped original.
         const int png = window_->studio().openImageView(dir + "/shaft.png", &error);
         QCOMPARE(png, n + 1);
         const ViewFrame& p = window_->studio().frames()[std::size_t(png)];
-        QVERIFY2(p.technique.contains("sRGB decoded"), qPrintable(p.technique));
+        QVERIFY2(p.technique.contains("PNG (sRGB - Texture)"), qPrintable(p.technique));
         double worst = 0.0;
         for (int y = 0; y < shaft->height(); ++y)
             for (int x = 0; x < shaft->width(); ++x)

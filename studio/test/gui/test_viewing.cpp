@@ -138,19 +138,35 @@ private slots:
         QVERIFY2(matches >= samples * 95 / 100, qPrintable(QString("%1 of %2").arg(matches).arg(samples)));
     }
 
-    // The tonemap operator (toolbar combo, M cycles) changes every view's display: what the viewport shows at a pixel
-    // is tonemapRgb() of the view's image there, for each operator, and false colour adds its colour bar.
-    void tonemapsTheViewport() {
+    // The display transform (the toolbar's Display box, View > Display, M cycles) changes every view's display: the
+    // shipped OpenColorIO config's displays and views, then Tyndall's own operators. What the viewport shows at a
+    // pixel is the transform of the view's image there (DisplayTransform::apply, which the library's tests check
+    // against the closed forms), and false colour adds its colour bar.
+    void displayTransformsTheViewport() {
         window_->studio().setLayoutMode(Layout::Single);
         window_->studio().selectView(0);
-        auto* combo = window_->findChild<QComboBox*>("tonemap");
+        auto* combo = window_->findChild<QComboBox*>("display");
         QVERIFY(combo);
-        QCOMPARE(combo->count(), int(tonemapNames().size()));
+        const std::vector<DisplayTransform>& transforms = window_->studio().displayTransforms();
+        QCOMPARE(transforms.size(), std::size_t(6 + tonemapNames().size()));  // sRGB and Rec.1886 x 3 views, ours
+        // The config's default display and view to start with.
+        QCOMPARE(QString::fromStdString(window_->studio().compositorState().displayTransform.name()),
+                 QString("sRGB / Standard"));
+        QCOMPARE(combo->currentText(), QString("sRGB / Standard"));
+        auto* menu = window_->findChild<QMenu*>("displayMenu");
+        QVERIFY(menu);
+        QStringList menuDisplays;
+        for (QAction* a : menu->actions())
+            if (a->menu()) menuDisplays << a->text();
+        QCOMPARE(menuDisplays, QStringList({"sRGB", "Rec.1886"}));
         const ViewFrame& f = window_->studio().frames()[0];
-        std::vector<QImage> frames;
-        for (int op = 0; op < combo->count(); ++op) {
-            combo->setCurrentIndex(op);
-            QCOMPARE(int(window_->studio().compositorState().tonemap), op);
+        std::map<std::string, QImage> frames;
+        for (int item = 0; item < combo->count(); ++item) {
+            if (!combo->itemData(item).isValid()) continue;  // the separator before Tyndall's operators
+            combo->setCurrentIndex(item);
+            const int index = combo->itemData(item).toInt();
+            QCOMPARE(window_->studio().displayTransformIndex(), index);
+            const DisplayTransform& transform = transforms[std::size_t(index)];
             const QImage frame = window_->studio().composedFrame();
             // (False colour keeps a strip free for its colour bar: the view's place depends on the operator.)
             const QPoint at =
@@ -166,30 +182,48 @@ private slots:
                 for (int dx = -1; dx <= 1 && !found; ++dx) {
                     const int x = std::clamp(pixel.x() + dx, 0, f.image->width() - 1);
                     const int y = std::clamp(pixel.y() + dy, 0, f.image->height() - 1);
-                    const auto d =
-                        tonemapRgb(f.image->at(x, y, 0), f.image->at(x, y, 1), f.image->at(x, y, 2),
-                                   f.exposure + window_->studio().compositorState().exposureOffset, Tonemap(op));
+                    const auto d = transform.apply(f.image->at(x, y, 0), f.image->at(x, y, 1), f.image->at(x, y, 2),
+                                                   f.exposure + window_->studio().compositorState().exposureOffset);
                     found = std::abs(shown.red() - int(std::lround(d[0] * 255.0f))) <= 1 &&
                             std::abs(shown.green() - int(std::lround(d[1] * 255.0f))) <= 1 &&
                             std::abs(shown.blue() - int(std::lround(d[2] * 255.0f))) <= 1;
                 }
-            QVERIFY2(found, qPrintable(QString("operator %1 shows %2").arg(op).arg(shown.name())));
-            frames.push_back(frame);
+            QVERIFY2(found, qPrintable(QString::fromStdString(transform.name()) + " shows " + shown.name()));
+            frames[transform.name() + (transform.isOcio() ? "" : " (Tyndall)")] = frame;
         }
-        for (std::size_t i = 0; i < frames.size(); ++i)
-            for (std::size_t j = i + 1; j < frames.size(); ++j)
-                QVERIFY(frames[i] != frames[j]);
+        // OpenColorIO's sRGB display is Tyndall's sRGB curve (within the one 8-bit level of Tyndall's table); its ACES
+        // view and the Rec.1886 display are not.
+        const auto levels = [](const QImage& a, const QImage& b) {
+            int worst = a.size() == b.size() ? 0 : 256;
+            for (int y = 0; y < a.height() && worst < 256; ++y)
+                for (int x = 0; x < a.width(); ++x) {
+                    const QColor p = a.pixelColor(x, y), q = b.pixelColor(x, y);
+                    worst = std::max({worst, std::abs(p.red() - q.red()), std::abs(p.green() - q.green()),
+                                      std::abs(p.blue() - q.blue())});
+                }
+            return worst;
+        };
+        QVERIFY(levels(frames.at("sRGB / Standard"), frames.at("srgb (Tyndall)")) <= 1);
+        QVERIFY(frames.at("sRGB / ACES 1.0 - SDR Video") != frames.at("sRGB / Standard"));
+        QVERIFY(frames.at("Rec.1886 / Standard") != frames.at("sRGB / Standard"));
+        QVERIFY(frames.at("sRGB / Raw") != frames.at("sRGB / Standard"));
         // False colour draws the viridis bar at the bottom right: its left end is viridis(0), dark purple.
-        const QImage falseColour = frames.back();
+        const QImage falseColour = frames.at("falsecolour (Tyndall)");
         const int barWidth = std::min(256, falseColour.width() / 3);
         const QColor left = falseColour.pixelColor(falseColour.width() - barWidth - 12 + 1, falseColour.height() - 25);
         QVERIFY2(left.red() > 50 && left.red() < 90 && left.green() < 20 && left.blue() > 60, qPrintable(left.name()));
-        // M (an application-wide shortcut, here typed in the viewport) cycles from false colour back to sRGB, and the
-        // combo follows.
+        // M (an application-wide shortcut, here typed in the viewport) cycles from false colour, the last, back to the
+        // first, and the box and the menu follow.
+        QCOMPARE(window_->studio().displayTransformIndex(), int(transforms.size()) - 1);
         QTest::keyClick(window_->viewport(), Qt::Key_M);
-        QCOMPARE(window_->studio().compositorState().tonemap, Tonemap::Srgb);
+        QCOMPARE(window_->studio().displayTransformIndex(), 0);
         QCOMPARE(combo->currentIndex(), 0);
-        QCOMPARE(window_->studio().composedFrame(), frames.front());
+        const QAction* checked = nullptr;
+        for (QAction* a : menu->findChildren<QAction*>())
+            if (a->isCheckable() && a->isChecked()) checked = a;
+        QVERIFY(checked);
+        QCOMPARE(checked->data().toInt(), 0);
+        QCOMPARE(window_->studio().composedFrame(), frames.at("sRGB / Standard"));
         window_->studio().setLayoutMode(Layout::Grid);
     }
 
@@ -409,6 +443,60 @@ private slots:
         QVERIFY2(fresh.findChild<QDockWidget*>("sceneDock")->height() >= 300,
                  qPrintable(QString::number(fresh.findChild<QDockWidget*>("sceneDock")->height())));
         QTRY_VERIFY_WITH_TIMEOUT(fresh.studio().settled(), 120000);
+    }
+
+    // $OCIO chooses the config whose displays and views the Display box and menu list (issue 35); one that is
+    // missing or broken is passed over for the shipped config with a message naming the file, and the studio works.
+    void followsTheOcioConfig() {
+        const QString data = TYNDALL_SOURCE_DIR "/tests/data/ocio/";
+        const auto items = [](const MainWindow& w) {
+            QStringList out;
+            const auto* combo = w.findChild<QComboBox*>("display");
+            for (int i = 0; i < combo->count(); ++i)
+                if (combo->itemData(i).isValid()) out << combo->itemText(i);
+            return out;
+        };
+        const auto menuDisplays = [](const MainWindow& w) {
+            QStringList out;
+            for (QAction* a : w.findChild<QMenu*>("displayMenu")->actions())
+                if (a->menu()) out << a->text();
+            return out;
+        };
+        const QStringList ours = {"Tyndall: sRGB (clamped)", "Tyndall: Reinhard", "Tyndall: ACES fit",
+                                  "Tyndall: false colour"};
+        qputenv("OCIO", (data + "cinema.ocio").toUtf8());
+        {
+            MainWindow cinema(vulkan_, kSmall);
+            cinema.studio().setRecovery(Studio::Recovery::Never);
+            QCOMPARE(items(cinema), QStringList({"Cinema / Film", "Cinema / Raw"}) + ours);
+            QCOMPARE(menuDisplays(cinema), QStringList({"Cinema"}));
+            QCOMPARE(cinema.findChild<QComboBox*>("display")->currentText(), QString("Cinema / Film"));
+            QVERIFY(cinema.findChild<QComboBox*>("display")->toolTip().contains("cinema.ocio ($OCIO)"));
+        }
+        qputenv("OCIO", (data + "broken.ocio").toUtf8());
+        {
+            MainWindow fallback(vulkan_, kSmall);
+            fallback.studio().setRecovery(Studio::Recovery::Never);
+            fallback.show();
+            QVERIFY(QTest::qWaitForWindowExposed(&fallback));
+            const QString said = fallback.statusBar()->currentMessage();
+            QVERIFY2(said.contains("broken.ocio") && said.contains("'missing'") && said.contains("the shipped config"),
+                     qPrintable(said));
+            QCOMPARE(menuDisplays(fallback), QStringList({"sRGB", "Rec.1886"}));
+            QVERIFY(items(fallback).contains("sRGB / ACES 1.0 - SDR Video"));
+            QVERIFY(fallback.openProject(kDefaultProject, false));  // and it works
+            QTRY_VERIFY_WITH_TIMEOUT(fallback.studio().settled(), 120000);
+            QVERIFY(distinctColours(fallback.studio().composedFrame()) > 20);
+        }
+        qunsetenv("OCIO");
+        {
+            // --ocio naming a file that is not there: said, and $OCIO's (unset) or the shipped config instead.
+            MainWindow missing(vulkan_, kSmall, data + "nowhere.ocio");
+            missing.studio().setRecovery(Studio::Recovery::Never);
+            const QString said = missing.statusBar()->currentMessage();
+            QVERIFY2(said.contains("nowhere.ocio") && said.contains("no such file"), qPrintable(said));
+            QCOMPARE(missing.studio().colourConfig()->origin(), std::string("shipped"));
+        }
     }
 
     // The window's size and dock layout come back on the next start (QSettings, saved on close).

@@ -71,4 +71,8 @@ struct FlipHistogramBin {
 };
 std::vector<FlipHistogramBin> flipHistogram(const std::vector<float>& error, int bins = 100);
 
+// The error map as FLIP's papers show it: each pixel's error (row-major, width x height) through magma, as linear RGB
+// (an sRGB encoding gives magma's published colours): black where the images cannot be told apart, pale yellow at 1.
+Image flipColourMap(const std::vector<float>& error, int width, int height);
+
 }  // namespace tyndall
