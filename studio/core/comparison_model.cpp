@@ -1,5 +1,7 @@
 #include "comparison_model.h"
 
+#include "tyndall/image/flip.h"
+
 #include "tyndall/image/metrics.h"
 
 #include <QMetaObject>
@@ -45,7 +47,7 @@ void ComparisonModel::reset(const std::vector<ViewInfo>& views) {
         images_[k].against = std::clamp(images_[k].against, 0, std::max(0, projectViews_ - 1));
     }
     progress_.assign(frames_.size(), {});
-    latestMetrics_.assign(frames_.size(), 0);
+    jobs_.assign(frames_.size(), {});
     region_ = QRect();
     referenceView_ = -1;
     syncImages();
@@ -64,13 +66,13 @@ void ComparisonModel::followViews(const std::vector<ViewInfo>& views, const std:
 
     std::vector<ViewFrame> frames(views.size() + images_.size());
     std::vector<std::vector<Progress>> progress(frames.size());
-    std::vector<quint64> latest(frames.size(), 0);
+    std::vector<ViewJobs> jobs(frames.size());
     for (std::size_t o = 0; o < newOf.size(); ++o) {
         if (newOf[o] < 0) continue;
         const std::size_t i = std::size_t(newOf[o]);
         frames[i] = std::move(frames_[o]);
         progress[i] = std::move(progress_[o]);
-        latest[i] = latestMetrics_[o];
+        jobs[i] = jobs_[o];
     }
     for (std::size_t i = 0; i < views.size(); ++i) {
         ViewFrame& f = frames[i];
@@ -81,7 +83,7 @@ void ComparisonModel::followViews(const std::vector<ViewInfo>& views, const std:
     }
     frames_ = std::move(frames);
     progress_ = std::move(progress);
-    latestMetrics_ = std::move(latest);
+    jobs_ = std::move(jobs);
     projectViews_ = int(views.size());
     for (ImageView& image : images_) {
         const int against = image.against < int(newOf.size()) ? newOf[std::size_t(image.against)] : -1;
@@ -99,8 +101,13 @@ void ComparisonModel::followViews(const std::vector<ViewInfo>& views, const std:
 }
 
 int ComparisonModel::viewOfMetrics(quint64 request) const {
-    const auto it = std::find(latestMetrics_.begin(), latestMetrics_.end(), request);
-    return it == latestMetrics_.end() ? -1 : int(it - latestMetrics_.begin());
+    const auto it = std::find_if(jobs_.begin(), jobs_.end(), [&](const ViewJobs& j) { return j.metrics == request; });
+    return it == jobs_.end() ? -1 : int(it - jobs_.begin());
+}
+
+int ComparisonModel::viewOfFlip(quint64 request) const {
+    const auto it = std::find_if(jobs_.begin(), jobs_.end(), [&](const ViewJobs& j) { return j.flip == request; });
+    return it == jobs_.end() ? -1 : int(it - jobs_.begin());
 }
 
 void ComparisonModel::setState(int view, quint64 state) {
@@ -120,7 +127,7 @@ int ComparisonModel::addImage(const QString& name, const QString& kind, std::sha
     f.file = true;
     frames_.push_back(std::move(f));
     progress_.emplace_back();
-    latestMetrics_.push_back(0);
+    jobs_.emplace_back();
     syncImages();
     if (referenceView_ >= 0) refreshAlternates();
     emit metricsChanged();
@@ -153,7 +160,7 @@ void ComparisonModel::removeImage(int view) {
     images_.erase(images_.begin() + (view - projectViews_));
     frames_.erase(frames_.begin() + view);
     progress_.erase(progress_.begin() + view);
-    latestMetrics_.erase(latestMetrics_.begin() + view);
+    jobs_.erase(jobs_.begin() + view);
     if (referenceView_ == view) referenceView_ = -1;
     if (referenceView_ > view) --referenceView_;
     refreshAlternates();
@@ -340,15 +347,17 @@ void ComparisonModel::updateMetrics(int view) {
         f.regionMetrics.reset();
         f.metricsImage.reset();
         f.metricsAgainst.reset();
-        latestMetrics_[std::size_t(view)] = 0;
+        jobs_[std::size_t(view)].metrics = 0;
+        updateFlip(view);
         return;
     }
+    updateFlip(view);
     // The numbers shown stay until the new pair's arrive: no flicker of "waiting" at every progressive image.
     const double exposure = f.exposure;
     const QRect region = region_.intersected(QRect(0, 0, image->width(), image->height()));
     ++metricsPending_;
     const quint64 request = ++metricsRequests_;
-    latestMetrics_[std::size_t(view)] = request;
+    jobs_[std::size_t(view)].metrics = request;
     runInBackground([this, image, against, exposure, region, request] {
         std::optional<Metrics> whole, part;
         try {
@@ -374,6 +383,72 @@ void ComparisonModel::updateMetrics(int view) {
                 f.regionMetrics = part;
                 f.metricsImage = image;
                 f.metricsAgainst = against;
+                emit metricsChanged();
+                emit framesChanged();
+            },
+            Qt::QueuedConnection);
+    });
+}
+
+namespace {
+
+// The mean of a FLIP error map (row-major, `width` pixels across) over `region` (image pixels; empty: none).
+std::optional<double> flipMean(const std::vector<float>& map, int width, QRect region) {
+    if (region.isEmpty()) return std::nullopt;
+    return flipRegionMean(map, width, region.x(), region.y(), region.width(), region.height());
+}
+
+}  // namespace
+
+void ComparisonModel::updateFlip(int view) {
+    ViewFrame& f = frames_[std::size_t(view)];
+    const ComparisonPair pair = comparisonPair(f);
+    const std::shared_ptr<const Image> image = pair.image, against = pair.against;
+    if (!image || !against || image->width() != against->width() || image->height() != against->height()) {
+        f.flip.reset();
+        f.regionFlip.reset();
+        f.flipMap.reset();
+        f.flipImage.reset();
+        f.flipAgainst.reset();
+        return;
+    }
+    const QRect region = region_.intersected(QRect(0, 0, image->width(), image->height()));
+    if (f.flipMap && f.flipImage == image && f.flipAgainst == against) {
+        f.regionFlip = flipMean(*f.flipMap, image->width(), region);  // a sum over the stored map: no FLIP
+        return;
+    }
+    if (jobs_[std::size_t(view)].flip != 0) return;  // it asks again for the newest pair when it ends
+    ++flipPending_;
+    const quint64 request = ++metricsRequests_;
+    jobs_[std::size_t(view)].flip = request;
+    runInBackground([this, image, against, request] {
+        std::shared_ptr<const std::vector<float>> map;
+        try {
+            map = std::make_shared<const std::vector<float>>(hdrFlip(*against, *image).error);
+        } catch (const std::exception&) {
+            // No R, G, B to compare: no FLIP, as no metrics.
+        }
+        QMetaObject::invokeMethod(
+            this,
+            [this, image, against, map, request] {
+                --flipPending_;
+                const int view = viewOfFlip(request);
+                if (view < 0) return;  // the views started again
+                jobs_[std::size_t(view)].flip = 0;
+                ViewFrame& f = frames_[std::size_t(view)];
+                const ComparisonPair now = comparisonPair(f);
+                const bool sameSize =
+                    now.image && now.image->width() == image->width() && now.image->height() == image->height();
+                if (map && sameSize) {
+                    f.flipMap = map;
+                    f.flipImage = image;
+                    f.flipAgainst = against;
+                    f.flip = flipMean(*map, image->width(), QRect(0, 0, image->width(), image->height()));
+                    f.regionFlip = flipMean(*map, image->width(),
+                                            region_.intersected(QRect(0, 0, image->width(), image->height())));
+                }
+                // The pair moved on while it ran (a progressive image, a new reference): FLIP of the newest.
+                if (now.image != image || now.against != against) updateFlip(view);
                 emit metricsChanged();
                 emit framesChanged();
             },

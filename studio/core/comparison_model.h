@@ -84,8 +84,8 @@ public:
     static int convergenceBucket(int spp);
     // The relMSE over spp and seconds of each view's progressive images against its comparand.
     void convergenceSeries(std::vector<QString>& names, std::vector<std::vector<ConvergencePoint>>& points) const;
-    // No metrics or relMSE job is in flight.
-    bool idle() const { return metricsPending_ == 0 && convergencePending_ == 0; }
+    // No metrics, FLIP or relMSE job is in flight.
+    bool idle() const { return metricsPending_ == 0 && flipPending_ == 0 && convergencePending_ == 0; }
 
 signals:
     void framesChanged();       // anything the viewport shows
@@ -94,7 +94,11 @@ signals:
 
 private:
     void updateMetrics(int view);
+    // HDR-FLIP of the view's pair: the region's mean from the stored map when the pair is the same, else a job in the
+    // background unless one runs for the view (then one more for the newest pair when it ends).
+    void updateFlip(int view);
     int viewOfMetrics(quint64 request) const;  // the view whose latest metrics job it is; -1: none
+    int viewOfFlip(quint64 request) const;     // the view whose FLIP job it is; -1: none
     void updateConvergence();
     void refreshAlternates();
     void syncImages();  // the image views' references, states and pairs from their project views
@@ -126,9 +130,13 @@ private:
         bool againstAlternate = false;           // `against` is the image of the view chosen with Shift+1-9
     };
     std::vector<std::vector<Progress>> progress_;
-    int metricsPending_ = 0, convergencePending_ = 0;
-    quint64 metricsRequests_ = 0;         // metrics jobs started so far
-    std::vector<quint64> latestMetrics_;  // per view: the job whose result it shows (an older job's is dropped)
+    int metricsPending_ = 0, flipPending_ = 0, convergencePending_ = 0;
+    quint64 metricsRequests_ = 0;  // metrics and FLIP jobs started so far
+    struct ViewJobs {
+        quint64 metrics = 0;  // the metrics job whose result the view shows (an older job's is dropped)
+        quint64 flip = 0;     // the FLIP job in flight for the view (0: none)
+    };
+    std::vector<ViewJobs> jobs_;  // per view
 };
 
 // Adds a view's progressive image (anything with an `spp`) to its convergence points: a lower spp than the last

@@ -214,16 +214,19 @@ QString metricsLine(const ViewFrame& f, Detail detail = Detail::Full) {
         return compact ? QString("identical to the reference")
                        : QString("identical to its reference (the same renderer, settings and seed)");
     const QString progress = referenceProgress(f);
+    // HDR-FLIP follows the metrics (its own background job): "FLIP ..." once it has arrived.
+    const QString flip = f.flip ? "  FLIP " + number(*f.flip) : QString();
     if (compact) {
         QString line = QString(f.metricsStale ? "stale: " : "") + "relMSE " + number(f.metrics->relMSE) + "  " +
-                       number(f.metrics->psnr) + " dB";
+                       number(f.metrics->psnr) + " dB" + flip;
         if (f.regionMetrics && detail == Detail::Compact) line += "  | region " + number(f.regionMetrics->relMSE);
         return line;
     }
     QString line = QString(f.metricsStale ? (progress.isEmpty() ? "stale: " : "stale (" + progress + "): ") : "") +
-                   "relMSE " + number(f.metrics->relMSE) + "  PSNR " + number(f.metrics->psnr) + " dB";
+                   "relMSE " + number(f.metrics->relMSE) + "  PSNR " + number(f.metrics->psnr) + " dB" + flip;
     if (f.metrics->referenceNoiseRelMSE) line += "  ref. noise " + number(*f.metrics->referenceNoiseRelMSE);
     if (f.regionMetrics) line += "  | region relMSE " + number(f.regionMetrics->relMSE);
+    if (f.regionMetrics && f.regionFlip) line += "  FLIP " + number(*f.regionFlip);
     return line;
 }
 
@@ -497,8 +500,12 @@ QImage compose(const std::vector<ViewFrame>& frames, const CompositorState& stat
             const ComparisonPair pair = comparisonPair(f);
             const std::shared_ptr<const Image>&a = pair.image, &b = pair.against;
             if (!a || !b || a->width() != b->width() || a->height() != b->height()) return {};
-            return cachedDisplay(a, b, 0.0, std::size_t(state.diff), scale,
-                                 [&] { return differenceDisplay(*a, *b, state.diff, scale); });
+            return cachedDisplay(a, b, 0.0, std::size_t(state.diff), scale, [&] {
+                // FLIP's map from the comparison model when it is of this pair, else computed here.
+                if (state.diff == DiffMode::Flip && f.flipMap && f.flipImage == a && f.flipAgainst == b)
+                    return toDisplay(flipColourMap(*f.flipMap, a->width(), a->height()), 0.0);
+                return differenceDisplay(*a, *b, state.diff, scale);
+            });
         }
         if (!img) return {};
         return cachedDisplay(img, nullptr, exposure, 16 + std::hash<std::string>()(transformKey), 0.0,

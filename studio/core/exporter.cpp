@@ -1,5 +1,7 @@
 #include "exporter.h"
 
+#include "tyndall/core/text.h"
+#include "tyndall/image/flip.h"
 #include "tyndall/image/image_io.h"
 #include "tyndall/image/metrics.h"
 
@@ -87,6 +89,9 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
         std::shared_ptr<const Image> image, against;
         double exposure;
         std::optional<Metrics> known;
+        // HDR-FLIP's error map of the pair: the model's when it is of that pair, else made by the view's FLIP step
+        // (or by the metrics step, when that failed).
+        std::shared_ptr<std::shared_ptr<const std::vector<float>>> flip;
     };
     std::vector<MetricsRow> rows;
     const double scale = sharedDifferenceScale(input.frames);
@@ -129,6 +134,19 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
                 writeImage(differenceImage(*image, *against, DifferenceKind::Signed, scale), stem + "-diff.png");
             });
         }
+        auto flip = std::make_shared<std::shared_ptr<const std::vector<float>>>(
+            image && against && f.flipMap && f.flipImage == image && f.flipAgainst == against ? f.flipMap : nullptr);
+        if (image && against) {
+            // The FLIP view (D's fifth mode): the error map through magma, and its values as an EXR.
+            viewStep("the FLIP map", [image, against, stem, flip] {
+                if (!*flip) *flip = std::make_shared<const std::vector<float>>(hdrFlip(*against, *image).error);
+                writeImage(flipColourMap(**flip, image->width(), image->height()), stem + "-flip.png");
+                Image map(image->width(), image->height(), {"FLIP"});
+                std::copy((*flip)->begin(), (*flip)->end(), map.data());
+                map.metadata["flip.colourMap"] = "magma, in " + stem + "-flip.png";
+                writeImage(map, stem + "-flip.exr");
+            });
+        }
         nlohmann::json m = {{"view", f.name.toStdString()}};
         if (!image) {
             m["missing"] = "no image yet";
@@ -147,7 +165,7 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
         if (against) {
             std::optional<Metrics> known;
             if (f.metrics && f.metricsImage == image && f.metricsAgainst == against) known = f.metrics;
-            rows.push_back({entry, image, against, own, known});
+            rows.push_back({entry, image, against, own, known, flip});
         }
         metrics.push_back(m);
         // Region insets: the region of the view and of its reference, when a region is drawn.
@@ -180,14 +198,24 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
     // metrics.json and .csv after the views' files: they list what could not be written.
     const QRect region = input.display.region;
     steps.push_back([rows = std::move(rows), metrics, writeText, report, region]() mutable {
-        std::string csv = metricsCsvHeader() + "\n";
+        std::string csv = metricsCsvHeader() + ",flip\n";
         for (const MetricsRow& row : rows) {
             nlohmann::json& entry = metrics[row.entry];
             const std::string view = entry["view"].get<std::string>();
             try {
                 const Metrics m = row.known ? *row.known : computeMetrics(*row.image, *row.against, row.exposure);
                 entry.update(metricsToJson(m));
-                csv += metricsCsvRow(view, m) + "\n";
+                // HDR-FLIP's summary as FLIP's papers report it (the mean, the weighted median and quartiles).
+                if (!*row.flip)
+                    *row.flip = std::make_shared<const std::vector<float>>(hdrFlip(*row.against, *row.image).error);
+                const std::vector<float>& flipMap = **row.flip;
+                const FlipStatistics flip = flipStatistics(flipMap);
+                entry["flip"] = {{"mean", flip.mean},
+                                 {"weightedMedian", flip.weightedMedian},
+                                 {"weightedFirstQuartile", flip.weightedFirstQuartile},
+                                 {"weightedThirdQuartile", flip.weightedThirdQuartile},
+                                 {"maximum", flip.maximum}};
+                csv += metricsCsvRow(view, m) + "," + formatNumber(flip.mean) + "\n";
                 // The region's metrics beside the whole image's, as the metrics dock shows them.
                 const QRect r = region.intersected(QRect(0, 0, row.image->width(), row.image->height()));
                 if (!r.isEmpty()) {
@@ -198,7 +226,11 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
                     entry["region"]["y"] = part.y;
                     entry["region"]["width"] = part.width;
                     entry["region"]["height"] = part.height;
-                    csv += metricsCsvRow(view + " (region " + describe(part) + ")", inRegion) + "\n";
+                    const double regionFlip =
+                        flipRegionMean(flipMap, row.image->width(), part.x, part.y, part.width, part.height);
+                    entry["region"]["flip"] = {{"mean", regionFlip}};
+                    csv += metricsCsvRow(view + " (region " + describe(part) + ")", inRegion) + "," +
+                           formatNumber(regionFlip) + "\n";
                 }
             } catch (const std::exception& e) {
                 report->failed[row.entry] << "the metrics (" + QString::fromStdString(e.what()) + ")";

@@ -202,14 +202,18 @@ ParametersDock::ParametersDock(Studio& studio, QWidget* parent)
 // --- Metrics
 
 MetricsDock::MetricsDock(Studio& studio, QWidget* parent)
-    : QDockWidget("Metrics", parent), studio_(studio), table_(new QTableWidget(0, 5)) {
+    : QDockWidget("Metrics", parent), studio_(studio), table_(new QTableWidget(0, 7)) {
     setObjectName("metricsDock");
     table_->setObjectName("metrics");
-    table_->setHorizontalHeaderLabels({"relMSE", "PSNR", "ref. noise", "bias %", "region relMSE"});
-    table_->horizontalHeaderItem(0)->setToolTip("relative MSE of the view against its reference");
+    table_->setHorizontalHeaderLabels(
+        {"relMSE", "PSNR", "FLIP", "ref. noise", "bias %", "region relMSE", "region FLIP"});
     table_->horizontalHeaderItem(2)->setToolTip(
+        "HDR-FLIP's mean perceptual error against the reference, 0 (cannot be told apart) to 1 (docs/flip.md); "
+        "computed after the other numbers, in the background");
+    table_->horizontalHeaderItem(0)->setToolTip("relative MSE of the view against its reference");
+    table_->horizontalHeaderItem(3)->setToolTip(
         "relMSE of the reference's own noise (from its variance): a view's relMSE near it is noise, above it is bias");
-    table_->horizontalHeaderItem(3)->setToolTip("the view's mean luminance minus the reference's, in %");
+    table_->horizontalHeaderItem(4)->setToolTip("the view's mean luminance minus the reference's, in %");
     table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
     table_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
     table_->horizontalHeader()->setStretchLastSection(true);
@@ -244,7 +248,7 @@ void MetricsDock::refresh() {
                 : why.isEmpty()   ? QString("waiting")
                                   : why.section(':', 0, 0));
             table_->item(row, 0)->setToolTip(why);
-            for (int c = 1; c < 5; ++c)
+            for (int c = 1; c < table_->columnCount(); ++c)
                 set(row, c, "");
             continue;
         }
@@ -252,9 +256,11 @@ void MetricsDock::refresh() {
         // A stale pair's numbers stay, marked, until the new reference arrives.
         set(row, 0, QString::number(f.metrics->relMSE, 'g', 3) + (f.metricsStale ? " (stale)" : ""));
         set(row, 1, std::isfinite(f.metrics->psnr) ? QString::number(f.metrics->psnr, 'g', 4) : QString("identical"));
-        set(row, 2, f.metrics->referenceNoiseRelMSE ? QString::number(*f.metrics->referenceNoiseRelMSE, 'g', 3) : "-");
-        set(row, 3, QString::number(f.metrics->energyBias, 'g', 3));
-        set(row, 4, f.regionMetrics ? QString::number(f.regionMetrics->relMSE, 'g', 3) : "-");
+        set(row, 2, f.flip ? QString::number(*f.flip, 'g', 3) : QString("..."));  // "...": on its way
+        set(row, 3, f.metrics->referenceNoiseRelMSE ? QString::number(*f.metrics->referenceNoiseRelMSE, 'g', 3) : "-");
+        set(row, 4, QString::number(f.metrics->energyBias, 'g', 3));
+        set(row, 5, f.regionMetrics ? QString::number(f.regionMetrics->relMSE, 'g', 3) : "-");
+        set(row, 6, f.regionMetrics && f.regionFlip ? QString::number(*f.regionFlip, 'g', 3) : "-");
     }
 }
 

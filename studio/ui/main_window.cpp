@@ -72,7 +72,10 @@ MainWindow::MainWindow(QVulkanInstance* vulkan, std::vector<std::string> overrid
     // The display transform, on the layout toolbar before the wipe's swap (M cycles), and in View > Display.
     display_ = new QComboBox;
     display_->setObjectName("display");
-    display_->setSizeAdjustPolicy(QComboBox::AdjustToContents);
+    // As wide as the tonemap box it replaced, whatever the config's names (the popup and the tooltip show them whole):
+    // a long view name must not push the animation toolbar's clock off a 1472-pixel window.
+    display_->setSizeAdjustPolicy(QComboBox::AdjustToMinimumContentsLengthWithIcon);
+    display_->setMinimumContentsLength(9);
     connect(display_, &QComboBox::currentIndexChanged, &studio_, [this](int i) {
         if (i >= 0 && display_->itemData(i).isValid()) studio_.setDisplayTransform(display_->itemData(i).toInt());
     });
@@ -250,10 +253,10 @@ void MainWindow::rebuildDisplayMenus() {
             display_->addItem(displayLabel(transforms[i]), int(i));
         }
     }
-    display_->setToolTip("Display transform, after the exposure (M cycles): the displays and views of " + config +
-                         " (OpenColorIO; --ocio or $OCIO choose another), then Tyndall's own operators: sRGB clamps, "
-                         "Reinhard compresses luminance keeping hue, the ACES fit is Narkowicz's, false colour maps "
-                         "log2 luminance to viridis");
+    displayTip_ = QString("Display transform, after the exposure (M cycles): the displays and views of " + config +
+                          " (OpenColorIO; --ocio or $OCIO choose another), then Tyndall's own operators: sRGB clamps, "
+                          "Reinhard compresses luminance keeping hue, the ACES fit is Narkowicz's, false colour maps "
+                          "log2 luminance to viridis");
     // The menu: a submenu per display with its views, then Tyndall's operators; one checked.
     for (QMenu* sub : displayMenu_->findChildren<QMenu*>(Qt::FindDirectChildrenOnly))
         sub->deleteLater();
@@ -297,6 +300,9 @@ void MainWindow::updateDisplay() {
             const QSignalBlocker block(display_);
             display_->setCurrentIndex(item);
         }
+        // The box is narrow: its tooltip names the whole choice.
+        const QString tip = display_->currentText() + "\n\n" + displayTip_;
+        if (display_->toolTip() != tip) display_->setToolTip(tip);
     }
     if (displayActions_)
         for (QAction* a : displayActions_->actions())

@@ -107,6 +107,7 @@ private:
     PlotsDock* plots_;
     SceneDock* scene_;
     QComboBox* display_ = nullptr;
+    QString displayTip_;  // what the box offers (its tooltip, after the current choice)
     QMenu* displayMenu_ = nullptr;
     QActionGroup* displayActions_ = nullptr;
     QLabel* renderStatus_ = nullptr;

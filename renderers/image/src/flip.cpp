@@ -484,6 +484,17 @@ std::vector<FlipHistogramBin> flipHistogram(const std::vector<float>& error, int
     return out;
 }
 
+double flipRegionMean(const std::vector<float>& error, int mapWidth, int x, int y, int width, int height) {
+    TY_CHECK(width > 0 && height > 0 && x >= 0 && y >= 0 && x + width <= mapWidth &&
+                 std::size_t(y + height) * std::size_t(mapWidth) <= error.size(),
+             "flipRegionMean: a region inside the map");
+    double sum = 0.0;
+    for (int row = y; row < y + height; ++row)
+        for (int column = x; column < x + width; ++column)
+            sum += error[std::size_t(row) * std::size_t(mapWidth) + std::size_t(column)];
+    return sum / (double(width) * height);
+}
+
 Image flipColourMap(const std::vector<float>& error, int width, int height) {
     TY_CHECK(error.size() == std::size_t(width) * std::size_t(height), "flipColourMap: one error per pixel");
     Image map = Image::rgb(width, height);

@@ -9,6 +9,7 @@
 
 #include "tyndall/core/phase_eval.h"
 #include "tyndall/image/colour_map.h"
+#include "tyndall/image/flip.h"
 #include "tyndall/image/image_io.h"
 #include "tyndall/image/metrics.h"
 #include "tyndall/tables/ltsd_table.h"

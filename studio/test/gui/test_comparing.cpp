@@ -86,8 +86,23 @@ private slots:
 
         window_->studio().setRegion(QRect(20, 20, 40, 30));
         QTRY_VERIFY(window_->studio().settled());
-        for (const ViewFrame& f : window_->studio().frames())
+        for (const ViewFrame& f : window_->studio().frames()) {
             QVERIFY2(f.regionMetrics.has_value(), qPrintable(f.name));
+            // HDR-FLIP over the region: the mean of the pair's error map there (FLIP's filters see the whole image),
+            // the whole map that of hdrFlip() of the pair, and both in the caption.
+            QVERIFY2(f.flip && f.regionFlip && f.flipMap, qPrintable(f.name));
+            QVERIFY(f.flipImage == f.metricsImage && f.flipAgainst == f.metricsAgainst);
+            const HdrFlipResult flip = hdrFlip(*f.flipAgainst, *f.flipImage);
+            QCOMPARE(flip.error, *f.flipMap);
+            QVERIFY(std::abs(*f.regionFlip - flipRegionMean(flip.error, f.flipImage->width(), 20, 20, 40, 30)) < 1e-9);
+            QVERIFY(std::abs(*f.flip - flipStatistics(flip.error).mean) < 1e-6);
+            QVERIFY(*f.flip > 0.0 && *f.flip < 1.0);
+            const QString caption = tileCaption(f, false, 2000, QFont()).join("  ");
+            QVERIFY2(caption.contains("FLIP " + QString::number(*f.flip, 'g', 3)), qPrintable(caption));
+            QVERIFY2(
+                caption.contains("region relMSE") && caption.contains("FLIP " + QString::number(*f.regionFlip, 'g', 3)),
+                qPrintable(caption));
+        }
         // The relMSE of each point is computed in the background pool: a view's last point (its final image) is the
         // relMSE its metrics report against the same reference.
         int checked = 0;

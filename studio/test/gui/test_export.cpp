@@ -20,7 +20,8 @@ private slots:
         QString error;
         QVERIFY2(window_->studio().exportComparison(folder, &error), qPrintable(error));
         for (const ViewFrame& f : window_->studio().frames())
-            for (const char* suffix : {".exr", ".png", "-reference.exr", "-reference.png", "-diff.png"})
+            for (const char* suffix :
+                 {".exr", ".png", "-reference.exr", "-reference.png", "-diff.png", "-flip.png", "-flip.exr"})
                 QVERIFY2(QFile::exists(folder + "/" + f.name + suffix), qPrintable(f.name + suffix));
         QFile json(folder + "/metrics.json");
         QVERIFY(json.open(QIODevice::ReadOnly));
@@ -34,7 +35,17 @@ private slots:
             const Metrics m = computeMetrics(readImage((stem + ".exr").toStdString()),
                                              readImage((stem + "-reference.exr").toStdString()), f.exposure);
             QVERIFY2(std::abs(metrics[i]["relMSE"].get<double>() - m.relMSE) <= 1e-6 * m.relMSE, qPrintable(f.name));
+            // HDR-FLIP of the files written: the exported map and metrics.json's summary (the FLIP view, D's fifth
+            // mode, as a magma PNG beside it).
+            const Image flipMap = readImage((stem + "-flip.exr").toStdString());
+            const HdrFlipResult flip =
+                hdrFlip(readImage((stem + "-reference.exr").toStdString()), readImage((stem + ".exr").toStdString()));
+            QCOMPARE(std::vector<float>(flipMap.data(), flipMap.data() + flipMap.size()), flip.error);
+            QVERIFY2(std::abs(metrics[i]["flip"]["mean"].get<double>() - flipStatistics(flip.error).mean) < 1e-9,
+                     metrics[i].dump().c_str());
+            QCOMPARE(QImage(stem + "-flip.png").size(), QSize(flipMap.width(), flipMap.height()));
         }
+        QVERIFY2(metrics[1]["region"].contains("flip"), metrics[1].dump().c_str());
         // The region's metrics beside the whole image's (they were in the dock only).
         QVERIFY2(metrics[1].contains("region") && metrics[1]["region"]["width"] == 40, metrics[1].dump().c_str());
         const QImage viewport(folder + "/viewport.png");

@@ -116,6 +116,11 @@ private slots:
             QCOMPARE(table->verticalHeaderItem(row)->text(), frames[std::size_t(row)].name);
             QCOMPARE(table->item(row, 0)->text(), QString::number(frames[std::size_t(row)].metrics->relMSE, 'g', 3));
             QCOMPARE(table->item(row, 1)->text(), QString::number(frames[std::size_t(row)].metrics->psnr, 'g', 4));
+            // HDR-FLIP, computed after the metrics in the background, of the same pair once the studio settled.
+            const ViewFrame& f = frames[std::size_t(row)];
+            QVERIFY2(f.flip && f.flipImage == f.metricsImage && f.flipAgainst == f.metricsAgainst, qPrintable(f.name));
+            QCOMPARE(table->item(row, 2)->text(), QString::number(*f.flip, 'g', 3));
+            QCOMPARE(table->horizontalHeaderItem(2)->text(), QString("FLIP"));
         }
         QTRY_VERIFY(window_->viewport()->framesPresented() > 0);
         window_->studio().recompose();

@@ -61,6 +61,9 @@ struct FlipStatistics {
     double minimum = 0.0, maximum = 0.0;
 };
 FlipStatistics flipStatistics(const std::vector<float>& error);
+// The mean error over a rectangle of a map `mapWidth` pixels across (x, y, width, height in pixels, inside the map):
+// a region's FLIP, from the map of the whole image (the filters need the region's surroundings).
+double flipRegionMean(const std::vector<float>& error, int mapWidth, int x, int y, int width, int height);
 
 // The histogram FLIP's reports plot: `bins` equal bins over [0, 1] (the last one closed), each with its pixel count and
 // its share of the summed error (the pixels weighted by their error; the shares sum to 1 unless every error is 0).
