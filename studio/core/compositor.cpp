@@ -411,21 +411,23 @@ QString referenceProgress(const ViewFrame& frame) {
 QImage toDisplay(const Image& image, double exposure, const DisplayTransform& transform) {
     QImage out(image.width(), image.height(), QImage::Format_RGBA8888);
     if (transform.isOcio() || transform.tonemap() != Tonemap::Srgb) {
-        // A row at a time through the transform (OpenColorIO's processor, or Tyndall's operator).
-        std::vector<float> rgb(std::size_t(image.width()) * 3);
+        // The whole image through the transform at once (OpenColorIO's processor, or Tyndall's operator; in
+        // parallel, DisplayTransform::apply).
+        std::vector<float> rgb(std::size_t(image.width()) * std::size_t(image.height()) * 3);
         const int r = std::max(image.channelIndex("R"), 0), g = std::max(image.channelIndex("G"), 0),
                   b = std::max(image.channelIndex("B"), 0);
-        for (int y = 0; y < image.height(); ++y) {
+        for (int y = 0; y < image.height(); ++y)
             for (int x = 0; x < image.width(); ++x) {
-                rgb[3 * std::size_t(x)] = image.at(x, y, r);
-                rgb[3 * std::size_t(x) + 1] = image.at(x, y, g);
-                rgb[3 * std::size_t(x) + 2] = image.at(x, y, b);
+                float* p = rgb.data() + 3 * (std::size_t(y) * std::size_t(image.width()) + std::size_t(x));
+                p[0] = image.at(x, y, r), p[1] = image.at(x, y, g), p[2] = image.at(x, y, b);
             }
-            transform.apply(rgb.data(), std::size_t(image.width()), exposure);
+        transform.apply(rgb.data(), std::size_t(image.width()) * std::size_t(image.height()), exposure);
+        for (int y = 0; y < image.height(); ++y) {
             uchar* row = out.scanLine(y);
+            const float* p = rgb.data() + 3 * std::size_t(y) * std::size_t(image.width());
             for (int x = 0; x < image.width(); ++x) {
                 for (int c = 0; c < 3; ++c)
-                    row[4 * x + c] = uchar(std::lround(rgb[3 * std::size_t(x) + std::size_t(c)] * 255.0f));
+                    row[4 * x + c] = uchar(std::lround(p[3 * x + c] * 255.0f));
                 row[4 * x + 3] = 255;
             }
         }

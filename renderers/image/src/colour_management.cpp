@@ -203,26 +203,28 @@ std::string DisplayTransform::name() const {
 }
 
 void DisplayTransform::apply(float* rgb, std::size_t pixels, double exposure) const {
-    if (!isOcio()) {
-        for (std::size_t i = 0; i < pixels; ++i) {
-            float* p = rgb + 3 * i;
-            const std::array<float, 3> d = tonemapRgb(p[0], p[1], p[2], exposure, op_);
-            p[0] = d[0], p[1] = d[1], p[2] = d[2];
-        }
-        return;
-    }
+    // In blocks, in parallel (OpenColorIO's CPU processor is thread-safe); a block keeps OpenColorIO's image
+    // description small.
+    constexpr std::size_t kBlock = 1 << 14;
     const float scale = float(std::exp2(exposure));
-    for (std::size_t i = 0; i < 3 * pixels; ++i)
-        rgb[i] = std::isfinite(rgb[i]) ? rgb[i] * scale : 0.0f;
-    // In blocks: OpenColorIO's image descriptions take a long width and height, and a block keeps them small.
-    constexpr std::size_t kBlock = 1 << 16;
-    for (std::size_t start = 0; start < pixels; start += kBlock) {
-        const std::size_t n = std::min(kBlock, pixels - start);
-        OCIO::PackedImageDesc desc(rgb + 3 * start, long(n), 1, 3);
+    tbb::parallel_for(std::size_t(0), (pixels + kBlock - 1) / kBlock, [&](std::size_t block) {
+        float* start = rgb + 3 * block * kBlock;
+        const std::size_t n = std::min(kBlock, pixels - block * kBlock);
+        if (!isOcio()) {
+            for (std::size_t i = 0; i < n; ++i) {
+                float* p = start + 3 * i;
+                const std::array<float, 3> d = tonemapRgb(p[0], p[1], p[2], exposure, op_);
+                p[0] = d[0], p[1] = d[1], p[2] = d[2];
+            }
+            return;
+        }
+        for (std::size_t i = 0; i < 3 * n; ++i)
+            start[i] = std::isfinite(start[i]) ? start[i] * scale : 0.0f;
+        OCIO::PackedImageDesc desc(start, long(n), 1, 3);
         processor_->cpu->apply(desc);
-    }
-    for (std::size_t i = 0; i < 3 * pixels; ++i)
-        rgb[i] = std::isnan(rgb[i]) ? 0.0f : std::clamp(rgb[i], 0.0f, 1.0f);
+        for (std::size_t i = 0; i < 3 * n; ++i)
+            start[i] = std::isnan(start[i]) ? 0.0f : std::clamp(start[i], 0.0f, 1.0f);
+    });
 }
 
 std::array<float, 3> DisplayTransform::apply(float r, float g, float b, double exposure) const {

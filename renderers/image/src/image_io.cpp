@@ -348,7 +348,7 @@ Image readPng(const std::string& path) {
     for (int i = 0; i < texts; ++i) {
         const std::string key = text[i].key;
         if (key.starts_with(kMetadataPrefix))
-            metadata[key.substr(kMetadataPrefix.size())] = std::string(text[i].text, text[i].text_length);
+            metadata[key.substr(kMetadataPrefix.size())] = text[i].text;  // NUL-terminated (iTXt has no text_length)
     }
     const std::int64_t width = png_get_image_width(read.png, read.info);
     const std::int64_t height = png_get_image_height(read.png, read.info);

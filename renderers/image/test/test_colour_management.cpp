@@ -223,6 +223,7 @@ TEST(ColourManagement, PngsRecordTheirDisplayTransform) {
             for (int c = 0; c < 3; ++c)
                 image.at(x, y, c) = 0.05f * float(x + y + c);
     image.metadata["technique"] = "ltsd";
+    image.metadata["parameters"] = std::string(3000, 'p');  // long: compressed (zTXt)
     const auto config = shipped();
     const DisplayTransform aces(config, "sRGB", "ACES 1.0 - SDR Video");
     const std::string path = (dir / "aces.png").string();
@@ -233,6 +234,7 @@ TEST(ColourManagement, PngsRecordTheirDisplayTransform) {
     EXPECT_EQ(back.metadata.at("ocioConfig"), ColourConfig::shippedConfigPath().string());
     EXPECT_EQ(std::stod(back.metadata.at("displayExposure")), 1.0);
     EXPECT_EQ(back.metadata.at("technique"), "ltsd");
+    EXPECT_EQ(back.metadata.at("parameters"), std::string(3000, 'p'));
     EXPECT_EQ(back.metadata.count("tonemap"), 0u);
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 8; ++x) {
