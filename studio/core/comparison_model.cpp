@@ -232,6 +232,7 @@ void ComparisonModel::renderStopped(int view, bool reference) {
     ViewFrame& f = frames_[std::size_t(view)];
     (reference ? f.referenceRendering : f.rendering) = false;
     if (reference) f.referenceEta = -1.0;
+    flipWhenIdle();
     emit metricsChanged();  // the status
     emit framesChanged();
 }
@@ -287,6 +288,7 @@ void ComparisonModel::addOutput(const RenderOutput& out) {
     }
     if (!out.reference && out.view == referenceView_) refreshAlternates();
     updateMetrics(out.view);
+    if (out.final) flipWhenIdle();
     updateConvergence();
     emit metricsChanged();
     emit framesChanged();
@@ -418,13 +420,20 @@ void ComparisonModel::updateFlip(int view) {
         return;
     }
     if (jobs_[std::size_t(view)].flip != 0) return;  // it asks again for the newest pair when it ends
+    // Not while anything renders: even on one niced thread, FLIP beside the renders held back an edit's first images
+    // (Studio.Gui.Rendering under load). flipWhenIdle() starts it when the last render ends.
+    if (anyRendering()) return;
     ++flipPending_;
     const quint64 request = ++metricsRequests_;
     jobs_[std::size_t(view)].flip = request;
     runInBackground([this, image, against, request] {
         std::shared_ptr<const std::vector<float>> map;
+        // On this (niced) pool thread alone: on TBB's workers, at full priority and beside the CPU renders' tasks,
+        // FLIP took their time from the edit's images.
+        HdrFlipSettings alone;
+        alone.threads = 1;
         try {
-            map = std::make_shared<const std::vector<float>>(hdrFlip(*against, *image).error);
+            map = std::make_shared<const std::vector<float>>(hdrFlip(*against, *image, alone).error);
         } catch (const std::exception&) {
             // No R, G, B to compare: no FLIP, as no metrics.
         }
@@ -454,6 +463,17 @@ void ComparisonModel::updateFlip(int view) {
             },
             Qt::QueuedConnection);
     });
+}
+
+bool ComparisonModel::anyRendering() const {
+    return std::any_of(frames_.begin(), frames_.end(),
+                       [](const ViewFrame& f) { return f.rendering || f.referenceRendering; });
+}
+
+void ComparisonModel::flipWhenIdle() {
+    if (anyRendering()) return;
+    for (int i = 0; i < size(); ++i)
+        updateFlip(i);
 }
 
 int ComparisonModel::convergenceBucket(int spp) {

@@ -95,8 +95,10 @@ signals:
 private:
     void updateMetrics(int view);
     // HDR-FLIP of the view's pair: the region's mean from the stored map when the pair is the same, else a job in the
-    // background unless one runs for the view (then one more for the newest pair when it ends).
+    // background unless one runs for the view (then one more for the newest pair when it ends) or anything renders.
     void updateFlip(int view);
+    bool anyRendering() const;                 // a view's or a reference's render is queued or running
+    void flipWhenIdle();                       // once nothing renders: FLIP of every view whose pair has none yet
     int viewOfMetrics(quint64 request) const;  // the view whose latest metrics job it is; -1: none
     int viewOfFlip(quint64 request) const;     // the view whose FLIP job it is; -1: none
     void updateConvergence();

@@ -214,8 +214,9 @@ QString metricsLine(const ViewFrame& f, Detail detail = Detail::Full) {
         return compact ? QString("identical to the reference")
                        : QString("identical to its reference (the same renderer, settings and seed)");
     const QString progress = referenceProgress(f);
-    // HDR-FLIP follows the metrics (its own background job): "FLIP ..." once it has arrived.
-    const QString flip = f.flip ? "  FLIP " + number(*f.flip) : QString();
+    // HDR-FLIP follows the metrics (its own background job, once nothing renders): shown when it is of their pair.
+    const bool flipCurrent = f.flip && f.flipImage == f.metricsImage && f.flipAgainst == f.metricsAgainst;
+    const QString flip = flipCurrent ? "  FLIP " + number(*f.flip) : QString();
     if (compact) {
         QString line = QString(f.metricsStale ? "stale: " : "") + "relMSE " + number(f.metrics->relMSE) + "  " +
                        number(f.metrics->psnr) + " dB" + flip;
@@ -226,7 +227,7 @@ QString metricsLine(const ViewFrame& f, Detail detail = Detail::Full) {
                    "relMSE " + number(f.metrics->relMSE) + "  PSNR " + number(f.metrics->psnr) + " dB" + flip;
     if (f.metrics->referenceNoiseRelMSE) line += "  ref. noise " + number(*f.metrics->referenceNoiseRelMSE);
     if (f.regionMetrics) line += "  | region relMSE " + number(f.regionMetrics->relMSE);
-    if (f.regionMetrics && f.regionFlip) line += "  FLIP " + number(*f.regionFlip);
+    if (f.regionMetrics && f.regionFlip && flipCurrent) line += "  FLIP " + number(*f.regionFlip);
     return line;
 }
 

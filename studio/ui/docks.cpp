@@ -256,11 +256,13 @@ void MetricsDock::refresh() {
         // A stale pair's numbers stay, marked, until the new reference arrives.
         set(row, 0, QString::number(f.metrics->relMSE, 'g', 3) + (f.metricsStale ? " (stale)" : ""));
         set(row, 1, std::isfinite(f.metrics->psnr) ? QString::number(f.metrics->psnr, 'g', 4) : QString("identical"));
-        set(row, 2, f.flip ? QString::number(*f.flip, 'g', 3) : QString("..."));  // "...": on its way
+        // FLIP of the metrics' pair, else "..." (on its way: computed once nothing renders).
+        const bool flip = f.flip && f.flipImage == f.metricsImage && f.flipAgainst == f.metricsAgainst;
+        set(row, 2, flip ? QString::number(*f.flip, 'g', 3) : QString("..."));
         set(row, 3, f.metrics->referenceNoiseRelMSE ? QString::number(*f.metrics->referenceNoiseRelMSE, 'g', 3) : "-");
         set(row, 4, QString::number(f.metrics->energyBias, 'g', 3));
         set(row, 5, f.regionMetrics ? QString::number(f.regionMetrics->relMSE, 'g', 3) : "-");
-        set(row, 6, f.regionMetrics && f.regionFlip ? QString::number(*f.regionFlip, 'g', 3) : "-");
+        set(row, 6, f.regionMetrics && f.regionFlip && flip ? QString::number(*f.regionFlip, 'g', 3) : "-");
     }
 }
 

@@ -5,6 +5,7 @@
 
 #include <OpenColorIO/OpenColorIO.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -204,26 +205,29 @@ std::string DisplayTransform::name() const {
 
 void DisplayTransform::apply(float* rgb, std::size_t pixels, double exposure) const {
     // In blocks, in parallel (OpenColorIO's CPU processor is thread-safe); a block keeps OpenColorIO's image
-    // description small.
+    // description small. Isolated: the calling thread (the studio's composer) waits only on these blocks, never
+    // picking up a render's task from the shared arena meanwhile.
     constexpr std::size_t kBlock = 1 << 14;
     const float scale = float(std::exp2(exposure));
-    tbb::parallel_for(std::size_t(0), (pixels + kBlock - 1) / kBlock, [&](std::size_t block) {
-        float* start = rgb + 3 * block * kBlock;
-        const std::size_t n = std::min(kBlock, pixels - block * kBlock);
-        if (!isOcio()) {
-            for (std::size_t i = 0; i < n; ++i) {
-                float* p = start + 3 * i;
-                const std::array<float, 3> d = tonemapRgb(p[0], p[1], p[2], exposure, op_);
-                p[0] = d[0], p[1] = d[1], p[2] = d[2];
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(std::size_t(0), (pixels + kBlock - 1) / kBlock, [&](std::size_t block) {
+            float* start = rgb + 3 * block * kBlock;
+            const std::size_t n = std::min(kBlock, pixels - block * kBlock);
+            if (!isOcio()) {
+                for (std::size_t i = 0; i < n; ++i) {
+                    float* p = start + 3 * i;
+                    const std::array<float, 3> d = tonemapRgb(p[0], p[1], p[2], exposure, op_);
+                    p[0] = d[0], p[1] = d[1], p[2] = d[2];
+                }
+                return;
             }
-            return;
-        }
-        for (std::size_t i = 0; i < 3 * n; ++i)
-            start[i] = std::isfinite(start[i]) ? start[i] * scale : 0.0f;
-        OCIO::PackedImageDesc desc(start, long(n), 1, 3);
-        processor_->cpu->apply(desc);
-        for (std::size_t i = 0; i < 3 * n; ++i)
-            start[i] = std::isnan(start[i]) ? 0.0f : std::clamp(start[i], 0.0f, 1.0f);
+            for (std::size_t i = 0; i < 3 * n; ++i)
+                start[i] = std::isfinite(start[i]) ? start[i] * scale : 0.0f;
+            OCIO::PackedImageDesc desc(start, long(n), 1, 3);
+            processor_->cpu->apply(desc);
+            for (std::size_t i = 0; i < 3 * n; ++i)
+                start[i] = std::isnan(start[i]) ? 0.0f : std::clamp(start[i], 0.0f, 1.0f);
+        });
     });
 }
 

@@ -5,6 +5,7 @@
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -418,7 +419,23 @@ void flipExposureRange(const Image& reference, FlipToneMapper toneMapper, double
     stop = std::log2(knee / lo);
 }
 
+// hdrFlip's work, in whatever arena the caller set up.
+static HdrFlipResult hdrFlipIsolated(const Image& reference, const Image& test, const HdrFlipSettings& settings);
+
 HdrFlipResult hdrFlip(const Image& reference, const Image& test, const HdrFlipSettings& settings) {
+    TY_CHECK(settings.threads >= 0, "hdrFlip: threads >= 0");
+    if (settings.threads > 0) {
+        tbb::task_arena arena(settings.threads);
+        HdrFlipSettings inside = settings;
+        inside.threads = 0;
+        return arena.execute([&] { return hdrFlip(reference, test, inside); });
+    }
+    HdrFlipResult result;
+    tbb::this_task_arena::isolate([&] { result = hdrFlipIsolated(reference, test, settings); });
+    return result;
+}
+
+static HdrFlipResult hdrFlipIsolated(const Image& reference, const Image& test, const HdrFlipSettings& settings) {
     requireSameSize(reference, test);
     HdrFlipResult result;
     if (settings.automaticExposures)

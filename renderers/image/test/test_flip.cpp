@@ -113,6 +113,17 @@ TEST(Flip, IsSymmetricInRangeAndGrowsWithTheDifference) {
     EXPECT_LT(meanSmall, 0.5 * meanLarge);
 }
 
+// On the calling thread alone (the studio's background pool) HDR-FLIP gives the same result as on TBB's threads.
+TEST(Flip, OneThreadGivesTheSameResult) {
+    const Image base = noisy(64, 40, 5u, 0.3f), test = noisy(64, 40, 6u, 0.1f, &base);
+    HdrFlipSettings alone;
+    alone.threads = 1;
+    const HdrFlipResult everywhere = hdrFlip(base, test), serial = hdrFlip(base, test, alone);
+    EXPECT_EQ(everywhere.error, serial.error);
+    EXPECT_EQ(everywhere.exposureIndex, serial.exposureIndex);
+    EXPECT_GT(flipStatistics(serial.error).mean, 0.0);
+}
+
 TEST(Flip, ToneMappersReachTheirKneeAtTheInverse) {
     for (const char* name : {"aces", "hable", "reinhard"}) {
         const FlipToneMapper t = flipToneMapperFromName(name);

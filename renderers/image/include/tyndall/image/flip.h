@@ -36,6 +36,9 @@ struct HdrFlipSettings {
     double startExposure = 0.0;
     double stopExposure = 0.0;
     int exposures = 0;  // 0: max(2, ceil(stop - start))
+    // 0: TBB's threads, the work isolated (a caller waiting on it runs none of another loop's tasks meanwhile);
+    // 1: the calling thread alone (the studio's niced background pool, beside CPU renders).
+    int threads = 0;
 };
 
 struct HdrFlipResult {
