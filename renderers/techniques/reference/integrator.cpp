@@ -164,6 +164,8 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
         PreparedMedium pm;
         pm.sigma_s = toVec3(m.sigma_s);
         pm.sigma_t = toVec3(m.sigma_t());
+        pm.meanSigmaT = average(pm.sigma_t);
+        pm.meanSigmaS = average(pm.sigma_s);
         pm.phase = toPhaseParams(m.phase);
         pm.peakedPhase = isPeaked(pm.phase);
         int index = int(rs->media.size());
@@ -246,6 +248,7 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
         }
         p.centroid = toVec3(centroid / double(l.vertices.size()));
         p.normal = toVec3(polygonNormal(l.vertices));
+
         p.radiance = toVec3(l.radiance);
         p.twoSided = l.twoSided;
         rs->areaLights.push_back(p);
@@ -292,6 +295,11 @@ struct Integrator::Segment {
     float tMax = kInf;
     std::vector<Span> spans;
     float hullMin = kInf, hullMax = -kInf;  // the extent of all spans
+    bool homogeneous = true;                // no particle span
+    // The shaped equiangular tables of this segment, built on first use: per point light an index into `tables`, -1
+    // when not built yet, -2 when the light takes plain equiangular on this segment.
+    mutable std::vector<int> shaped;
+    mutable std::vector<shader::ShapedEquiangular> tables;
 };
 
 void Integrator::buildSegment(const vec3& origin, const vec3& dir, float tMax, Segment& segment) const {
@@ -310,10 +318,14 @@ void Integrator::buildSegment(const vec3& origin, const vec3& dir, float tMax, S
     }
     segment.hullMin = kInf;
     segment.hullMax = -kInf;
+    segment.homogeneous = true;
     for (const Span& s : segment.spans) {
         segment.hullMin = std::min(segment.hullMin, s.t0);
         segment.hullMax = std::max(segment.hullMax, s.t1);
+        segment.homogeneous = segment.homogeneous && s.particle < 0;
     }
+    segment.shaped.clear();
+    segment.tables.clear();
 }
 
 // The extinction of one particle at x (ISV thesis (004), Eq. 9 written with the distance to the centre).
@@ -620,7 +632,7 @@ vec3 Integrator::shadowTransmittance(const vec3& x, const vec3& wi, float distan
     float tEnd = std::isinf(distance) ? kInf : distance * (1.0f - 1e-5f);
     if (scene_.embree->occluded(x, wi, offset, tEnd)) return vec3(0.0f);
     if (!options_.transmittance) return vec3(1.0f);
-    Segment shadow;
+    thread_local Segment shadow;  // its vectors keep their capacity from ray to ray
     buildSegment(x, wi, distance, shadow);
     return transmittance(shadow, 0.0f, distance);
 }
@@ -646,6 +658,62 @@ static vec3 lightTargetPoint(const RenderScene& scene, int light) {
     return scene.areaLights[light - nPoint - scene.directionalLights.size()].centroid;
 }
 
+// The shaped equiangular table of a point light on a segment through homogeneous media (nullptr elsewhere: area and
+// directional lights, particles, the `shapedEquiangular` option off). Each node's weight is what equiangular leaves
+// of the single-scattering integrand (shared/shaped_equiangular.h), estimated cheaply: the camera leg's optical depth
+// from the spans, the light leg's as the local extinction times the distance (exact in a fog that holds the light),
+// the media's scattering times their phase functions towards the light, and a spot's profile; channels averaged. The
+// estimate only shapes the density: the sample is weighted by the exact integrand over the exact pdf. Area lights keep
+// plain equiangular: on fog-quad the shaped density (with the phase towards the centroid, with or without a cosine
+// at the light) gave no lower error per sample, so its cost was a loss (docs/reference.md).
+const shader::ShapedEquiangular* Integrator::shapedTable(int light, const Segment& segment, float a, float b) const {
+    if (!options_.shapedEquiangular || !options_.transmittance || !segment.homogeneous ||
+        light >= int(scene_.pointLights.size()))
+        return nullptr;
+    if (segment.shaped.empty()) segment.shaped.assign(scene_.pointLights.size(), -1);
+    int& slot = segment.shaped[std::size_t(light)];
+    if (slot == -1) {
+        const PreparedPointLight& point = scene_.pointLights[std::size_t(light)];
+        const shader::Equiangular e = shader::equiangularSetup(segment.origin, segment.dir, point.position, a,
+                                                               std::isinf(b) ? shader::kInfinity : b);
+        // A ray within 1e-5 (relative) of the light: its angles lie within float resolution of +/- pi/2, where the
+        // nodes' positions lose their precision (a table built there gave 30x outliers at h ~ 1e-7 |t0|). The pixel
+        // jitter about a light's image sends a few samples in a thousand there; they take plain equiangular.
+        if (e.h < 1e-5f * std::max(std::abs(e.t0), 1.0f)) {
+            slot = -2;
+            return nullptr;
+        }
+        slot = int(segment.tables.size());
+        shader::ShapedEquiangular& table = segment.tables.emplace_back();
+        table.e = e;
+        shader::ShapedNodes nodes;
+        shader::shapedNodeGeometry(table.e, nodes);
+        const bool profile = point.polynomial.size() > 1;
+        for (int k = 0; k <= TY_SHAPED_BINS; ++k) {
+            // The end nodes lie on the ends of [a, b] up to rounding, which may put them just outside the media:
+            // clamp them in, and count a medium's ends as inside it.
+            const float t = std::clamp(nodes.t[k], a, b);
+            float depth = 0.0f, local = 0.0f, scattering = 0.0f;
+            for (const Span& sp : segment.spans) {
+                const PreparedMedium& m = scene_.media[std::size_t(sp.medium)];
+                depth += m.meanSigmaT * std::max(0.0f, std::min(t, sp.t1) - sp.t0);
+                if (t >= sp.t0 && t <= sp.t1) {
+                    local += m.meanSigmaT;
+                    scattering += m.meanSigmaS * shader::phaseEval(m.phase, nodes.mu[k]);
+                }
+            }
+            float w = scattering > 0.0f ? scattering * std::exp(-(depth + local * nodes.r[k])) : 0.0f;
+            if (w > 0.0f && profile) {
+                const vec3 fromLight = (segment.origin + t * segment.dir - point.position) / nodes.r[k];
+                w *= std::max(0.0f, polynomialValue(point.polynomial, glm::dot(fromLight, point.axis)));
+            }
+            table.w[k] = w;
+        }
+        shader::shapedFinish(table);
+    }
+    return slot >= 0 ? &segment.tables[std::size_t(slot)] : nullptr;
+}
+
 float Integrator::lightTargetedSample(int light, const Segment& segment, float u, float& pdf) const {
     float a, b;
     lightTargetedTechnique(light, segment, a, b);
@@ -654,6 +722,8 @@ float Integrator::lightTargetedSample(int light, const Segment& segment, float u
         pdf = 1.0f / (b - a);
         return a + u * (b - a);
     }
+    if (const shader::ShapedEquiangular* table = shapedTable(light, segment, a, b))
+        return std::clamp(shader::shapedSample(*table, u, pdf), a, b);
     shader::Equiangular e = shader::equiangularSetup(segment.origin, segment.dir, lightTargetPoint(scene_, light), a,
                                                      std::isinf(b) ? shader::kInfinity : b);
     float t = shader::equiangularSample(e, u, pdf);
@@ -665,6 +735,7 @@ float Integrator::lightTargetedPdf(int light, const Segment& segment, float t) c
     if (!lightTargetedTechnique(light, segment, a, b) || t < a || t > b) return 0.0f;
     int nPoint = int(scene_.pointLights.size()), nDir = int(scene_.directionalLights.size());
     if (light >= nPoint && light < nPoint + nDir) return 1.0f / (b - a);
+    if (const shader::ShapedEquiangular* table = shapedTable(light, segment, a, b)) return shader::shapedPdf(*table, t);
     shader::Equiangular e = shader::equiangularSetup(segment.origin, segment.dir, lightTargetPoint(scene_, light), a,
                                                      std::isinf(b) ? shader::kInfinity : b);
     return shader::equiangularPdf(e, t);
@@ -748,7 +819,7 @@ vec3 Integrator::radiance(const vec3& cameraOrigin, const vec3& cameraDir, Sampl
     vec3 origin = cameraOrigin, dir = cameraDir;
     float tNear = 0.0f;
     int events = 0;
-    Segment segment;
+    thread_local Segment segment;  // its vectors keep their capacity from ray to ray
 
     for (;;) {
         // After the last event, the sampled direction only serves to find the area lights it reaches: test the

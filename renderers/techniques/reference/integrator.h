@@ -9,6 +9,7 @@
 #include "shared/camera.h"
 #include "shared/phase.h"
 #include "shared/rng.h"
+#include "shared/shaped_equiangular.h"
 #include "tyndall/core/scene.h"
 
 #include <memory>
@@ -33,6 +34,7 @@ struct PreparedMedium {
     vec3 sigma_s{0.0f};    // 1/m; for particle media: the albedo (sigma_s = albedo * sigma_t(x))
     vec3 sigma_t{0.0f};    // 1/m; unused for particle media
     PhaseParams phase{};
+    float meanSigmaT = 0.0f, meanSigmaS = 0.0f;  // channel means (homogeneous media), for the shaped equiangular table
     bool particles = false;
     bool infinite = false;
     bool peakedPhase = false;  // 4 pi max p >= kPeakedPhase: light sampling alone is weak near an area light
@@ -124,6 +126,9 @@ struct IntegratorOptions {
     DistanceStrategy distance = DistanceStrategy::Mis;
     LightStrategy light = LightStrategy::Mis;
     bool transmittance = true;         // test hook: false makes every transmittance 1 (and disables distance sampling)
+    // Light-targeted distances for point lights on segments through homogeneous media: equiangular shaped by both
+    // transmittances, the phase function and the light's profile (shared/shaped_equiangular.h), or plain.
+    bool shapedEquiangular = true;
 };
 
 // Random numbers for one camera sample: padded Owen-scrambled Sobol pairs for the structured dimensions, and a PCG
@@ -168,6 +173,7 @@ private:
     bool lightTargetedTechnique(int light, const Segment& segment, float& a, float& b) const;
     float lightTargetedSample(int light, const Segment& segment, float u, float& pdf) const;
     float lightTargetedPdf(int light, const Segment& segment, float t) const;
+    const shader::ShapedEquiangular* shapedTable(int light, const Segment& segment, float a, float b) const;
 
     vec3 inScattering(const Segment& segment, float t, float mu) const;
     vec3 sampleScatteringDirection(const Segment& segment, float t, const vec2& u, float& pdf) const;

@@ -52,6 +52,18 @@ std::vector<ParamInfo> ReferenceTechnique::parameters() const {
     }
     {
         ParamInfo i;
+        i.name = "equiangular";
+        i.type = ParamType::Enum;
+        i.doc =
+            "the equiangular distances towards point lights in homogeneous media: shaped by a 16-bin table of the "
+            "rest of the single-scattering integrand along the ray (both transmittances, the phase function, a "
+            "spot's profile), or plain (Kulla & Fajardo). Area lights take plain equiangular";
+        i.enumValues = {"shaped", "plain"};
+        i.defaultValue = std::string("shaped");
+        p.push_back(i);
+    }
+    {
+        ParamInfo i;
         i.name = "lightSampling";
         i.type = ParamType::Enum;
         i.doc =
@@ -89,6 +101,7 @@ IntegratorOptions optionsFrom(const ParamSet& params) {
                  : d == "equiangular" ? reference::DistanceStrategy::LightTargeted
                  : d == "mis"         ? reference::DistanceStrategy::Mis
                                       : reference::DistanceStrategy::Auto;
+    o.shapedEquiangular = params.getEnum("equiangular") == "shaped";
     const std::string& l = params.getEnum("lightSampling");
     o.light = l == "light"   ? reference::LightStrategy::LightSampling
               : l == "phase" ? reference::LightStrategy::PhaseSampling

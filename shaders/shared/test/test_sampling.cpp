@@ -1,10 +1,13 @@
 // Tests of the sampling math shared by GLSL and C++: the chi-square helpers of stats.h themselves, the direction
-// samplers and frames of shaders/shared/sampling.h, equiangular and spherical-triangle sampling, the jitter about a
+// samplers and frames of shaders/shared/sampling.h, equiangular sampling (plain and shaped, shaped_equiangular.h) and
+// spherical-triangle sampling, the jitter about a
 // point light's image of singular_pixel.h, the GGX and Lambertian
 // BSDFs of bsdf.h (normalisation, furnace tests, samplers), and the random numbers of rng.h (PCG32, Sobol nets).
 #include "shared/bsdf.h"
+#include "shared/phase.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
+#include "shared/shaped_equiangular.h"
 #include "shared/singular_pixel.h"
 
 #include "stats.h"
@@ -15,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <numbers>
 #include <set>
 #include <string>
@@ -349,32 +353,48 @@ TEST(Equiangular, PdfIntegratesToOne) {
     }
 }
 
-// Chi-square of sampled t (or s for unbounded intervals) in 50 bins, 1M samples, expected counts from the
-// quadrature of equiangularPdf over each bin. Samples up to 1e-4 of the range outside it are binned at the end (see
-// endSlack; an ulp or so past the end is float rounding, not a wrong distribution).
-TEST(Equiangular, SamplingMatchesPdf) {
+// A sampler of t on one equiangular case and the density of the binned variable (t, or s for unbounded intervals).
+struct CaseSampler {
+    std::function<double(float)> sample;
+    std::function<double(double)> density;
+};
+
+// Chi-square of sampled t (or s for unbounded intervals) in 50 bins, 1M samples per case, against the quadrature of
+// the density over each bin. Samples up to 1e-4 of the range outside it are binned at the end (see endSlack; an ulp
+// or so past the end is float rounding, not a wrong distribution).
+void expectSamplingMatchesPdf(sh::uint seed, const std::function<CaseSampler(const EquiangularCase&)>& prepare) {
     const int sampleCount = 1000000;
     const double alpha = kFamilyAlpha / static_cast<double>(kEquiangularCases.size());
     for (size_t k = 0; k < kEquiangularCases.size(); ++k) {
         const EquiangularCase& c = kEquiangularCases[k];
         SCOPED_TRACE(c.name);
-        const sh::Equiangular e = setUp(c);
+        const CaseSampler sampler = prepare(c);
         const UnitMap map = unitMap(c);
         const test::Grid2D grid =
             unbounded(c) ? test::Grid2D{0.0, 1.0, 50, 0.0, 1.0, 1} : test::Grid2D{c.ta, c.tb, 50, 0.0, 1.0, 1};
         test::Histogram2D histogram(grid, 1e-4);
-        sh::Pcg32 rng = sh::pcg32Seed(22u, static_cast<sh::uint>(k));
+        sh::Pcg32 rng = sh::pcg32Seed(seed, static_cast<sh::uint>(k));
         for (int i = 0; i < sampleCount; ++i) {
-            float pdf = 0.0f;
-            const double t = sh::equiangularSample(e, sh::pcg32NextFloat(rng), pdf);
+            const double t = sampler.sample(sh::pcg32NextFloat(rng));
             histogram.add(unbounded(c) ? map.s(t) : t, 0.5);
         }
         EXPECT_EQ(histogram.outside, 0);
         const auto expected =
-            histogram.grid.expectedCounts([&](double x, double) { return binnedDensity(c, e, x); }, sampleCount);
+            histogram.grid.expectedCounts([&](double x, double) { return sampler.density(x); }, sampleCount);
         const test::ChiSquareResult chi2 = test::chiSquareTest(histogram.counts, expected);
         EXPECT_GT(chi2.pValue, alpha) << chi2.describe();
     }
+}
+
+TEST(Equiangular, SamplingMatchesPdf) {
+    expectSamplingMatchesPdf(22u, [](const EquiangularCase& c) {
+        const sh::Equiangular e = setUp(c);
+        return CaseSampler{[e](float u) {
+                               float pdf = 0.0f;
+                               return double(sh::equiangularSample(e, u, pdf));
+                           },
+                           [c, e](double x) { return binnedDensity(c, e, x); }};
+    });
 }
 
 // The pdf returned with a sample equals equiangularPdf at it. Tolerance 1e-4 relative: t = t0 + d rounds d by an ulp
@@ -391,6 +411,160 @@ TEST(Equiangular, SampledPdfEqualsPdf) {
             ASSERT_NEAR(pdf, reference, 1e-4f * reference) << "t = " << t;
         }
     }
+}
+
+// ---------------------------------------------------------------------------------------------------------------------
+// Shaped equiangular sampling (shaped_equiangular.h)
+
+// The single-scattering weight the reference shapes with, in closed form for a homogeneous fog: both transmittances
+// and an HG lobe towards the light (the `fog-point` bench scene's sigma_t 0.3 and g 0.5).
+double fogWeight(double t, double r, double mu) {
+    sh::PhaseParams hg{};
+    hg.kind = sh::kPhaseHenyeyGreenstein;
+    hg.g = 0.5f;
+    return std::exp(-0.3 * (t + r)) * double(sh::phaseEval(hg, float(mu)));
+}
+
+sh::ShapedEquiangular shapedSetUp(const EquiangularCase& c, double (*weight)(double, double, double)) {
+    sh::ShapedEquiangular s{};
+    s.e = setUp(c);
+    sh::ShapedNodes n;
+    sh::shapedNodeGeometry(s.e, n);
+    for (int k = 0; k <= TY_SHAPED_BINS; ++k)
+        s.w[k] = float(weight(n.t[k], n.r[k], n.mu[k]));
+    sh::shapedFinish(s);
+    return s;
+}
+
+double shapedBinnedDensity(const EquiangularCase& c, const sh::ShapedEquiangular& s, double x) {
+    if (!unbounded(c)) return sh::shapedPdf(s, float(x));
+    const UnitMap map = unitMap(c);
+    const double u = std::min(x, 1.0 - 1e-9);
+    return sh::shapedPdf(s, float(map.t(u))) * map.dtds(u);
+}
+
+// Node geometry: t, r and mu of each node describe the point at angle theta_k seen from the light.
+TEST(ShapedEquiangular, NodesLieOnTheRayAtTheirAngles) {
+    const EquiangularCase c = kEquiangularCases[0];
+    const sh::Equiangular e = setUp(c);
+    sh::ShapedNodes n;
+    sh::shapedNodeGeometry(e, n);
+    for (int k = 0; k <= TY_SHAPED_BINS; ++k) {
+        const double theta = e.thetaA + (e.thetaB - e.thetaA) * k / TY_SHAPED_BINS;
+        EXPECT_NEAR(n.t[k], c.t0 + c.h * std::tan(theta), 1e-5);
+        EXPECT_NEAR(n.r[k], std::hypot(c.h, n.t[k] - c.t0), 1e-5);
+        EXPECT_NEAR(n.mu[k], -(n.t[k] - c.t0) / n.r[k], 1e-6);  // the cosine between the ray and the light's direction
+    }
+}
+
+// The pdf integrates to 1 (split at the foot and at every node, where the density has kinks). Tolerance 1e-5 as for
+// the plain equiangular pdf.
+TEST(ShapedEquiangular, PdfIntegratesToOne) {
+    for (const EquiangularCase& c : kEquiangularCases) {
+        SCOPED_TRACE(c.name);
+        const sh::ShapedEquiangular s = shapedSetUp(c, fogWeight);
+        const auto density = [&](double x) { return shapedBinnedDensity(c, s, x); };
+        std::vector<double> cuts;
+        const UnitMap map = unitMap(c);
+        sh::ShapedNodes n;
+        sh::shapedNodeGeometry(s.e, n);
+        for (int k = 0; k <= TY_SHAPED_BINS; ++k)
+            cuts.push_back(unbounded(c) ? std::clamp(map.s(n.t[k]), 0.0, 1.0) : std::clamp(double(n.t[k]), c.ta, c.tb));
+        cuts.push_back(unbounded(c) ? std::clamp(map.s(c.t0), 0.0, 1.0) : std::clamp(c.t0, c.ta, c.tb));
+        cuts.push_back(unbounded(c) ? 0.0 : c.ta);
+        cuts.push_back(unbounded(c) ? 1.0 : c.tb);
+        std::sort(cuts.begin(), cuts.end());
+        double total = 0.0;
+        for (size_t i = 0; i + 1 < cuts.size(); ++i)
+            total += test::integrate(density, cuts[i], cuts[i + 1]);
+        EXPECT_NEAR(total, 1.0, 1e-5);
+    }
+}
+
+// Chi-square of sampled t (or s) in 50 bins, 1M samples per case, against the quadrature of shapedPdf.
+TEST(ShapedEquiangular, SamplingMatchesPdf) {
+    expectSamplingMatchesPdf(24u, [](const EquiangularCase& c) {
+        const sh::ShapedEquiangular s = shapedSetUp(c, fogWeight);
+        return CaseSampler{[s](float u) {
+                               float pdf = 0.0f;
+                               return double(sh::shapedSample(s, u, pdf));
+                           },
+                           [c, s](double x) { return shapedBinnedDensity(c, s, x); }};
+    });
+}
+
+// The pdf returned with a sample equals shapedPdf at it (1e-4 relative, as for equiangular), for random u and the
+// extreme inputs.
+TEST(ShapedEquiangular, SampledPdfEqualsPdf) {
+    for (const EquiangularCase& c : kEquiangularCases) {
+        SCOPED_TRACE(c.name);
+        const sh::ShapedEquiangular s = shapedSetUp(c, fogWeight);
+        std::vector<float> us = {0.0f, sh::kOneMinusEpsilon, 0.5f};
+        sh::Pcg32 rng = sh::pcg32Seed(25u, 0u);
+        for (int i = 0; i < 2000; ++i)
+            us.push_back(sh::pcg32NextFloat(rng));
+        for (float u : us) {
+            float pdf = 0.0f;
+            const float t = sh::shapedSample(s, u, pdf);
+            EXPECT_GE(t, c.ta - endSlack(c, c.ta));
+            if (!unbounded(c)) {
+                EXPECT_LE(t, c.tb + endSlack(c, c.tb));
+            }
+            const float reference = sh::shapedPdf(s, t);
+            ASSERT_NEAR(pdf, reference, 1e-4f * reference) << "u = " << u << ", t = " << t;
+        }
+    }
+}
+
+// What the shaping is for: on the integrand it was built for (the weight over r^2) the estimate f / pdf is nearly
+// constant, while equiangular's varies with both transmittances and the phase function. Measured as the relative
+// standard deviation of f / pdf over 4096 stratified samples: the shaped one below 8 % and at least 10x below the
+// plain one on every case (measured: 0.0-5.9 % against 1.9-126 %; the largest where an unbounded ray's weight falls
+// off within the last bins).
+TEST(ShapedEquiangular, CancelsTheWeightItWasBuiltFor) {
+    for (const EquiangularCase& c : kEquiangularCases) {
+        SCOPED_TRACE(c.name);
+        const sh::ShapedEquiangular s = shapedSetUp(c, fogWeight);
+        const auto f = [&](double t) {
+            const double r = std::hypot(c.h, t - c.t0);
+            return fogWeight(t, r, -(t - c.t0) / r) / (r * r);
+        };
+        const auto relativeDeviation = [&](bool shaped) {
+            double sum = 0.0, sum2 = 0.0;
+            const int n = 4096;
+            for (int i = 0; i < n; ++i) {
+                const float u = (float(i) + 0.5f) / float(n);
+                float pdf = 0.0f;
+                const float t = shaped ? sh::shapedSample(s, u, pdf) : sh::equiangularSample(s.e, u, pdf);
+                const double value = f(t) / double(pdf);
+                sum += value;
+                sum2 += value * value;
+            }
+            const double mean = sum / n;
+            return std::sqrt(std::max(0.0, sum2 / n - mean * mean)) / mean;
+        };
+        const double shaped = relativeDeviation(true), plain = relativeDeviation(false);
+        EXPECT_LT(shaped, 0.08);
+        EXPECT_LT(10.0 * shaped, plain) << "shaped " << shaped << ", equiangular " << plain;
+    }
+}
+
+// Weights that are all zero (or not finite) leave the plain equiangular density, and a zero node is floored so that
+// no part of the ray is left without samples.
+TEST(ShapedEquiangular, DegenerateWeightsFallBackToEquiangular) {
+    const EquiangularCase c = kEquiangularCases[0];
+    for (double (*weight)(double, double, double) :
+         {+[](double, double, double) { return 0.0; },
+          +[](double, double, double) { return double(std::numeric_limits<float>::infinity()); }}) {
+        const sh::ShapedEquiangular s = shapedSetUp(c, weight);
+        for (double t = c.ta; t <= c.tb; t += 0.25)
+            EXPECT_NEAR(sh::shapedPdf(s, float(t)), sh::equiangularPdf(s.e, float(t)),
+                        1e-5 * sh::equiangularPdf(s.e, float(t)));
+    }
+    const sh::ShapedEquiangular spike =
+        shapedSetUp(c, [](double t, double, double) { return std::abs(t - 2.0) < 0.1 ? 1.0 : 0.0; });
+    for (double t = c.ta; t <= c.tb; t += 0.25)
+        EXPECT_GT(sh::shapedPdf(spike, float(t)), 0.0f);
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
