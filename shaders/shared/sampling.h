@@ -50,16 +50,24 @@ struct Equiangular {
     float thetaB;
 };
 
-TY_FUNC Equiangular equiangularSetup(TY_IN(vec3) origin, TY_IN(vec3) dir, TY_IN(vec3) light, float ta, float tb) {
+// With `softening2` = s^2 > 0 the density is proportional to 1 / (h^2 + s^2 + (t - t0)^2) instead: the inverse
+// square of the distance to a light of size ~s, which stays bounded near it (an area light's solid angle does).
+TY_FUNC Equiangular equiangularSetupSoftened(TY_IN(vec3) origin, TY_IN(vec3) dir, TY_IN(vec3) light, float ta, float tb,
+                                             float softening2) {
     // atan of a far end rounds to float(pi/2) = 1.5707964, which lies above pi/2: its tangent is -2.3e7, and samples
     // near that end would land far outside [ta, tb]. Keep both angles strictly inside (-pi/2, pi/2).
     const float kBelowHalfPi = 1.57079625f;  // the largest float below pi/2
     Equiangular e;
     e.t0 = dot(light - origin, dir);
-    e.h = max(length(origin + e.t0 * dir - light), 1e-7f);
+    vec3 perpendicular = origin + e.t0 * dir - light;
+    e.h = max(sqrt(dot(perpendicular, perpendicular) + softening2), 1e-7f);
     e.thetaA = clamp(atan(ta - e.t0, e.h), -kBelowHalfPi, kBelowHalfPi);
     e.thetaB = tb >= kInfinity ? kBelowHalfPi : clamp(atan(tb - e.t0, e.h), -kBelowHalfPi, kBelowHalfPi);
     return e;
+}
+
+TY_FUNC Equiangular equiangularSetup(TY_IN(vec3) origin, TY_IN(vec3) dir, TY_IN(vec3) light, float ta, float tb) {
+    return equiangularSetupSoftened(origin, dir, light, ta, tb, 0.0f);
 }
 
 TY_FUNC float equiangularSample(TY_IN(Equiangular) e, float u, TY_OUT(float) pdf) {

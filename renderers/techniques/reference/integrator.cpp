@@ -251,6 +251,10 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
 
         p.radiance = toVec3(l.radiance);
         p.twoSided = l.twoSided;
+        Vec3 twiceArea(0.0);  // Newell: the sum of the edges' cross products is twice the area times the normal
+        for (size_t i = 0; i < l.vertices.size(); ++i)
+            twiceArea += glm::cross(l.vertices[i], l.vertices[(i + 1) % l.vertices.size()]);
+        p.softening2 = float(0.5 * glm::length(twiceArea) / (4.0 * M_PI));
         rs->areaLights.push_back(p);
     }
 
@@ -658,14 +662,25 @@ static vec3 lightTargetPoint(const RenderScene& scene, int light) {
     return scene.areaLights[light - nPoint - scene.directionalLights.size()].centroid;
 }
 
+// The equiangular density about a point light, or about an area light's centroid, there softened by the light's size
+// when `soften` (the shaped distances: docs/reference.md, "Shaped equiangular distances").
+static shader::Equiangular lightEquiangular(const RenderScene& scene, int light, const vec3& origin, const vec3& dir,
+                                            float a, float b, bool soften) {
+    const int nPoint = int(scene.pointLights.size());
+    const float softening2 =
+        light < nPoint || !soften ? 0.0f : scene.areaLights[light - nPoint - scene.directionalLights.size()].softening2;
+    return shader::equiangularSetupSoftened(origin, dir, lightTargetPoint(scene, light), a,
+                                            std::isinf(b) ? shader::kInfinity : b, softening2);
+}
+
 // The shaped equiangular table of a point light on a segment through homogeneous media (nullptr elsewhere: area and
 // directional lights, particles, the `shapedEquiangular` option off). Each node's weight is what equiangular leaves
 // of the single-scattering integrand (shared/shaped_equiangular.h), estimated cheaply: the camera leg's optical depth
 // from the spans, the light leg's as the local extinction times the distance (exact in a fog that holds the light),
 // the media's scattering times their phase functions towards the light, and a spot's profile; channels averaged. The
-// estimate only shapes the density: the sample is weighted by the exact integrand over the exact pdf. Area lights keep
-// plain equiangular: on fog-quad the shaped density (with the phase towards the centroid, with or without a cosine
-// at the light) gave no lower error per sample, so its cost was a loss (docs/reference.md).
+// estimate only shapes the density: the sample is weighted by the exact integrand over the exact pdf. Area lights take
+// the softened equiangular density instead (lightEquiangular): on fog-quad such a table towards the centroid (with or
+// without a cosine at the light) gave no lower error per sample, so its cost was a loss (docs/reference.md).
 const shader::ShapedEquiangular* Integrator::shapedTable(int light, const Segment& segment, float a, float b) const {
     if (!options_.shapedEquiangular || !options_.transmittance || !segment.homogeneous ||
         light >= int(scene_.pointLights.size()))
@@ -724,8 +739,8 @@ float Integrator::lightTargetedSample(int light, const Segment& segment, float u
     }
     if (const shader::ShapedEquiangular* table = shapedTable(light, segment, a, b))
         return std::clamp(shader::shapedSample(*table, u, pdf), a, b);
-    shader::Equiangular e = shader::equiangularSetup(segment.origin, segment.dir, lightTargetPoint(scene_, light), a,
-                                                     std::isinf(b) ? shader::kInfinity : b);
+    shader::Equiangular e =
+        lightEquiangular(scene_, light, segment.origin, segment.dir, a, b, options_.shapedEquiangular);
     float t = shader::equiangularSample(e, u, pdf);
     return std::clamp(t, a, b);
 }
@@ -736,8 +751,8 @@ float Integrator::lightTargetedPdf(int light, const Segment& segment, float t) c
     int nPoint = int(scene_.pointLights.size()), nDir = int(scene_.directionalLights.size());
     if (light >= nPoint && light < nPoint + nDir) return 1.0f / (b - a);
     if (const shader::ShapedEquiangular* table = shapedTable(light, segment, a, b)) return shader::shapedPdf(*table, t);
-    shader::Equiangular e = shader::equiangularSetup(segment.origin, segment.dir, lightTargetPoint(scene_, light), a,
-                                                     std::isinf(b) ? shader::kInfinity : b);
+    shader::Equiangular e =
+        lightEquiangular(scene_, light, segment.origin, segment.dir, a, b, options_.shapedEquiangular);
     return shader::equiangularPdf(e, t);
 }
 

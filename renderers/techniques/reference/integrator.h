@@ -71,6 +71,7 @@ struct PreparedAreaLight {
     vec3 centroid{0.0f};
     vec3 radiance{0.0f};
     bool twoSided = false;
+    float softening2 = 0.0f;  // m^2: the shaped light-targeted density's softening, area / (4 pi)
 };
 
 struct PreparedMesh {
@@ -126,8 +127,9 @@ struct IntegratorOptions {
     DistanceStrategy distance = DistanceStrategy::Mis;
     LightStrategy light = LightStrategy::Mis;
     bool transmittance = true;         // test hook: false makes every transmittance 1 (and disables distance sampling)
-    // Light-targeted distances for point lights on segments through homogeneous media: equiangular shaped by both
-    // transmittances, the phase function and the light's profile (shared/shaped_equiangular.h), or plain.
+    // Light-targeted distances: for point lights on segments through homogeneous media, equiangular shaped by both
+    // transmittances, the phase function and the light's profile (shared/shaped_equiangular.h); for area lights,
+    // equiangular about the centroid softened by the light's size. Or plain equiangular for both.
     bool shapedEquiangular = true;
 };
 

@@ -55,9 +55,10 @@ std::vector<ParamInfo> ReferenceTechnique::parameters() const {
         i.name = "equiangular";
         i.type = ParamType::Enum;
         i.doc =
-            "the equiangular distances towards point lights in homogeneous media: shaped by a 16-bin table of the "
-            "rest of the single-scattering integrand along the ray (both transmittances, the phase function, a "
-            "spot's profile), or plain (Kulla & Fajardo). Area lights take plain equiangular";
+            "the light-targeted distances: shaped, towards point lights in homogeneous media by a 16-bin table of "
+            "the rest of the single-scattering integrand along the ray (both transmittances, the phase function, a "
+            "spot's profile), and about area lights softened by the light's size (the inverse square of the distance "
+            "to the centroid plus area / (4 pi)); or plain equiangular (Kulla & Fajardo) for both";
         i.enumValues = {"shaped", "plain"};
         i.defaultValue = std::string("shaped");
         p.push_back(i);

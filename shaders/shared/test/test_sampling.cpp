@@ -397,6 +397,28 @@ TEST(Equiangular, SamplingMatchesPdf) {
     });
 }
 
+// A softened setup is the plain one about a light moved away from the ray to sqrt(h^2 + s^2): same foot, angles and
+// density (the reference's area lights, softened by their size).
+TEST(Equiangular, SoftenedIsEquiangularAboutAFartherLight) {
+    for (const EquiangularCase& c : kEquiangularCases) {
+        SCOPED_TRACE(c.name);
+        const sh::vec3 origin(0.3f, -0.2f, 0.1f);
+        const sh::vec3 dir = glm::normalize(sh::vec3(1.0f, 0.5f, -0.2f));
+        const sh::vec3 perpendicular = glm::normalize(glm::cross(dir, sh::vec3(0.0f, 0.0f, 1.0f)));
+        const float softening2 = 0.09f;
+        const sh::vec3 light = origin + float(c.t0) * dir + float(c.h) * perpendicular;
+        const sh::vec3 farther = origin + float(c.t0) * dir + float(std::sqrt(c.h * c.h + softening2)) * perpendicular;
+        const sh::Equiangular soft =
+            sh::equiangularSetupSoftened(origin, dir, light, float(c.ta), float(c.tb), softening2);
+        const sh::Equiangular plain = sh::equiangularSetup(origin, dir, farther, float(c.ta), float(c.tb));
+        EXPECT_NEAR(soft.t0, plain.t0, 1e-5f);
+        EXPECT_NEAR(soft.h, plain.h, 1e-5f);
+        EXPECT_NEAR(soft.thetaA, plain.thetaA, 1e-5f);
+        EXPECT_NEAR(soft.thetaB, plain.thetaB, 1e-5f);
+        EXPECT_NEAR(soft.h, std::sqrt(c.h * c.h + softening2), 1e-5);
+    }
+}
+
 // The pdf returned with a sample equals equiangularPdf at it. Tolerance 1e-4 relative: t = t0 + d rounds d by an ulp
 // of t, which moves the pdf by about ulp(t) / h (1e-5 here).
 TEST(Equiangular, SampledPdfEqualsPdf) {

@@ -529,6 +529,39 @@ void expectStrategiesAgree(const reference::RenderScene& rs, const std::vector<S
                     << strategies[i].name << " vs " << strategies[j].name << ", channel " << c;
 }
 
+// The red channel of 16 independently scrambled batches of 256 samples along one ray: the mean, its standard error
+// from the batches, the per-sample relative deviation, and the largest sample over the mean.
+struct RaySamples {
+    double mean = 0.0, error = 0.0, deviation = 0.0, largest = 0.0;
+};
+
+RaySamples sampleRay(const Integrator& integrator, const glm::vec3& o, const glm::vec3& d, uint32_t seed) {
+    const int batches = 16, perBatch = 256;
+    double sum = 0.0, sum2 = 0.0, batchSum = 0.0, batchSum2 = 0.0, max = 0.0;
+    for (int b = 0; b < batches; ++b) {
+        double inBatch = 0.0;
+        for (int i = 0; i < perBatch; ++i) {
+            SampleStream stream(shader::hashCombine(seed, uint32_t(b)), uint32_t(i));
+            const double v = integrator.radiance(o, d, stream).x;
+            inBatch += v;
+            sum += v;
+            sum2 += v * v;
+            max = std::max(max, v);
+        }
+        inBatch /= perBatch;
+        batchSum += inBatch;
+        batchSum2 += inBatch * inBatch;
+    }
+    RaySamples r;
+    const int n = batches * perBatch;
+    r.mean = sum / n;
+    r.deviation = std::sqrt(std::max(0.0, sum2 / n - r.mean * r.mean)) / r.mean;
+    r.largest = max / r.mean;
+    const double batchMean = batchSum / batches;
+    r.error = std::sqrt(std::max(0.0, batchSum2 / batches - batchMean * batchMean) / (batches - 1));
+    return r;
+}
+
 // The shaped equiangular distances (issue 32) on the `fog-point` bench scene's fog (sigma_t 0.3, albedo 0.9, HG
 // g = 0.5) and point light, for rays far from the light and rays that pass 6 cm to 0.6 mm from it, with an isotropic
 // light and a spot (its profile in the shaping). Per ray, both estimates agree with the quadrature (within 5
@@ -562,34 +595,12 @@ TEST(ReferenceSingleScattering, ShapedEquiangularCutsTheVariancePerRay) {
             if (ray < 3)
                 d = glm::normalize(toLight + glm::vec3(std::pow(10.0f, -2.0f - float(ray)) * 6.0f, 0.0f, 0.0f));
             SCOPED_TRACE((spot ? "spot, ray " : "isotropic, ray ") + std::to_string(ray));
-            double mean[2], error[2], deviation[2], largest[2];
+            RaySamples samples[2];
             for (const bool shaped : {false, true}) {
                 IntegratorOptions options;
                 options.distance = reference::DistanceStrategy::Auto;
                 options.shapedEquiangular = shaped;
-                Integrator integrator(*rs, options);
-                const int batches = 16, perBatch = 256;
-                double sum = 0.0, sum2 = 0.0, batchSum = 0.0, batchSum2 = 0.0, max = 0.0;
-                for (int b = 0; b < batches; ++b) {
-                    double inBatch = 0.0;
-                    for (int i = 0; i < perBatch; ++i) {
-                        SampleStream stream(shader::hashCombine(uint32_t(ray + 1), uint32_t(b)), uint32_t(i));
-                        const double v = integrator.radiance(o, d, stream).x;
-                        inBatch += v;
-                        sum += v;
-                        sum2 += v * v;
-                        max = std::max(max, v);
-                    }
-                    inBatch /= perBatch;
-                    batchSum += inBatch;
-                    batchSum2 += inBatch * inBatch;
-                }
-                const int n = batches * perBatch;
-                mean[shaped] = sum / n;
-                deviation[shaped] = std::sqrt(std::max(0.0, sum2 / n - mean[shaped] * mean[shaped])) / mean[shaped];
-                largest[shaped] = max / mean[shaped];
-                const double batchMean = batchSum / batches;
-                error[shaped] = std::sqrt(std::max(0.0, batchSum2 / batches - batchMean * batchMean) / (batches - 1));
+                samples[shaped] = sampleRay(Integrator(*rs, options), o, d, uint32_t(ray + 1));
             }
             // The exact value by quadrature (the fog fills space; sigma_t 0.3, sigma_s 0.27 in every channel).
             const glm::dvec3 od(o), dd(d), lp(light.position);
@@ -605,13 +616,56 @@ TEST(ReferenceSingleScattering, ShapedEquiangularCutsTheVariancePerRay) {
                 return std::exp(-0.3 * (t + r)) * 0.27 * phaseValue(scene.media[0].phase, glm::dot(dd, w / r)) * 20.0 *
                        std::max(0.0, value) / (r * r);
             };
-            const double exact = integrateToInfinity(f, std::max(0.5, glm::dot(lp - od, dd)), 1e-6 * mean[0]);
+            const double exact = integrateToInfinity(f, std::max(0.5, glm::dot(lp - od, dd)), 1e-6 * samples[0].mean);
             ASSERT_GT(exact, 0.0);
             for (const bool shaped : {false, true})
-                EXPECT_NEAR(mean[shaped], exact, 5.0 * error[shaped] + 1e-5 * exact) << (shaped ? "shaped" : "plain");
-            EXPECT_LT(5.0 * deviation[1], deviation[0]) << "shaped " << deviation[1] << ", plain " << deviation[0];
-            EXPECT_LT(largest[1], 3.0);
+                EXPECT_NEAR(samples[shaped].mean, exact, 5.0 * samples[shaped].error + 1e-5 * exact)
+                    << (shaped ? "shaped" : "plain");
+            EXPECT_LT(5.0 * samples[1].deviation, samples[0].deviation)
+                << "shaped " << samples[1].deviation << ", plain " << samples[0].deviation;
+            EXPECT_LT(samples[1].largest, 3.0);
         }
+    }
+}
+
+// The softened equiangular distances of an area light (issue 32) on the `fog-quad` bench scene's fog (HG g = -0.3)
+// and 1 m^2 one-sided quad: for rays through the light's footprint, beside it and far from it, the shaped (softened)
+// and plain estimates agree (both unbiased; 5 combined standard errors of 16 independently scrambled batches); on the
+// ray 1 cm under the light's centre the softened per-sample deviation is below a third of the plain one's (measured
+// 1.09 against 4.78: plain equiangular piles its samples at the centroid, where the light's solid angle stays
+// bounded), and nowhere above 1.1x (0.63-0.73 against 0.59-0.72 elsewhere: light sampling dominates there).
+TEST(ReferenceSingleScattering, SoftenedEquiangularAboutAnAreaLight) {
+    Scene scene = emptyScene();
+    scene.media.push_back(hgFog(Rgb(0.27), Rgb(0.03), -0.3));
+    AreaLight panel;
+    panel.name = "panel";
+    panel.vertices = {Vec3(-0.5, 1.5, -0.5), Vec3(0.5, 1.5, -0.5), Vec3(0.5, 1.5, 0.5), Vec3(-0.5, 1.5, 0.5)};
+    panel.radiance = Rgb(10.0);
+    panel.twoSided = false;
+    scene.areaLights.push_back(panel);
+    auto rs = reference::prepareScene(scene, ".");
+    const glm::vec3 o(0.0f, 1.7f, 6.0f);
+    // Rays aimed 1 cm, 20 cm and 40 cm under the light's centre, beside the light and far from it.
+    const std::vector<glm::vec3> targets = {
+        {0.0f, 1.49f, 0.0f}, {0.1f, 1.3f, 0.1f}, {0.2f, 1.1f, -0.2f}, {1.2f, 1.0f, 0.0f}, {-3.0f, 0.5f, -4.0f}};
+    for (size_t ray = 0; ray < targets.size(); ++ray) {
+        const glm::vec3 d = glm::normalize(targets[ray] - o);
+        SCOPED_TRACE("ray " + std::to_string(ray));
+        RaySamples samples[2];
+        for (const bool shaped : {false, true}) {
+            IntegratorOptions options;
+            options.distance = reference::DistanceStrategy::Auto;
+            options.light = reference::LightStrategy::Auto;
+            options.shapedEquiangular = shaped;
+            samples[shaped] = sampleRay(Integrator(*rs, options), o, d, uint32_t(ray + 101));
+        }
+        ASSERT_GT(samples[0].mean, 0.0);
+        EXPECT_NEAR(samples[1].mean, samples[0].mean,
+                    5.0 * std::hypot(samples[0].error, samples[1].error) + 1e-6 * samples[0].mean);
+        if (ray == 0) {
+            EXPECT_LT(3.0 * samples[1].deviation, samples[0].deviation);
+        }
+        EXPECT_LT(samples[1].deviation, 1.1 * samples[0].deviation);
     }
 }
 
