@@ -248,7 +248,6 @@ std::unique_ptr<RenderScene> prepareScene(const Scene& scene, const std::string&
         }
         p.centroid = toVec3(centroid / double(l.vertices.size()));
         p.normal = toVec3(polygonNormal(l.vertices));
-
         p.radiance = toVec3(l.radiance);
         p.twoSided = l.twoSided;
         Vec3 twiceArea(0.0);  // Newell: the sum of the edges' cross products is twice the area times the normal
