@@ -215,7 +215,7 @@ QString metricsLine(const ViewFrame& f, Detail detail = Detail::Full) {
                        : QString("identical to its reference (the same renderer, settings and seed)");
     const QString progress = referenceProgress(f);
     // HDR-FLIP follows the metrics (its own background job, once nothing renders): shown when it is of their pair.
-    const bool flipCurrent = f.flip && f.flipImage == f.metricsImage && f.flipAgainst == f.metricsAgainst;
+    const bool flipCurrent = f.flipIsCurrent();
     const QString flip = flipCurrent ? "  FLIP " + number(*f.flip) : QString();
     if (compact) {
         QString line = QString(f.metricsStale ? "stale: " : "") + "relMSE " + number(f.metrics->relMSE) + "  " +

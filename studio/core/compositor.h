@@ -61,6 +61,8 @@ struct ViewFrame {
     std::optional<double> flip, regionFlip;
     std::shared_ptr<const std::vector<float>> flipMap;
     std::shared_ptr<const Image> flipImage, flipAgainst;
+    // Whether `flip` is of the metrics' pair (captions and the Metrics dock show it only then).
+    bool flipIsCurrent() const { return flip && flipImage == metricsImage && flipAgainst == metricsAgainst; }
     std::shared_ptr<const Image> snapshot;    // the snapshot this view is compared against (null: the reference)
     QString snapshotName;
     std::shared_ptr<const Image> alternate;   // another view's image chosen as the reference (Shift+1-9)

@@ -257,7 +257,7 @@ void MetricsDock::refresh() {
         set(row, 0, QString::number(f.metrics->relMSE, 'g', 3) + (f.metricsStale ? " (stale)" : ""));
         set(row, 1, std::isfinite(f.metrics->psnr) ? QString::number(f.metrics->psnr, 'g', 4) : QString("identical"));
         // FLIP of the metrics' pair, else "..." (on its way: computed once nothing renders).
-        const bool flip = f.flip && f.flipImage == f.metricsImage && f.flipAgainst == f.metricsAgainst;
+        const bool flip = f.flipIsCurrent();
         set(row, 2, flip ? QString::number(*f.flip, 'g', 3) : QString("..."));
         set(row, 3, f.metrics->referenceNoiseRelMSE ? QString::number(*f.metrics->referenceNoiseRelMSE, 'g', 3) : "-");
         set(row, 4, QString::number(f.metrics->energyBias, 'g', 3));
