@@ -14,6 +14,8 @@
 // - BM_LtsdSMethod/device: N = 8, one light, the accurate S (the default) and the paper's alternately, on the GPU (0)
 //   and the CPU (1): wall time per render in the counters accurateMs and paperMs (issue 32).
 // Every case but BM_LtsdGpuRatio1 is unshadowed (shadows = off); every case but BM_LtsdSMethod uses the default S.
+#include "stage_counters.h"
+
 #include "tyndall/core/resources.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
@@ -123,9 +125,13 @@ void BM_LtsdGpuPrimaryVisibility(benchmark::State& state) {
              "views[ltsd].parameters.shadows=off", "views[ltsd].lights=[\"ceiling panel\"]", "views[ltsd].media=[]"});
         job = makeViewJob(project, kProject, "ltsd", {});
     }
+    bench::StageCounters stages;
+    bool warm[2] = {false, false};  // per variant (traced, raster): the untimed first frame (compilation) is left out
     const auto frame = [&](bool raster) {
         setenv("TYNDALL_RASTER_PRIMARY", raster ? "1" : "0", 1);
         const RenderResult r = runJob(job);
+        if (warm[raster]) stages.add(r.image, raster ? "raster" : "traced");
+        warm[raster] = true;
         if (r.image.metadata.at("primaryVisibility") != (raster ? "raster" : "traced: TYNDALL_RASTER_PRIMARY=0"))
             state.SkipWithError(("primaryVisibility: " + r.image.metadata.at("primaryVisibility")).c_str());
         // Wall time of the whole render (preparation, uploads, passes, readback): lavapipe's timestamps of the compute
@@ -135,8 +141,28 @@ void BM_LtsdGpuPrimaryVisibility(benchmark::State& state) {
     alternate(
         state, [&] { return frame(true); }, [&] { return frame(false); }, "rasterMs", "tracedMs");
     unsetenv("TYNDALL_RASTER_PRIMARY");
+    stages.report(state);  // where each variant's frame goes, ms per timed frame
 }
 BENCHMARK(BM_LtsdGpuPrimaryVisibility)->Arg(0)->Arg(1)->UseManualTime()->Iterations(5)->Unit(benchmark::kMillisecond);
+
+// An edit's frame as the studio and the CLI render it: a new job (and so a new technique object) per frame, N = 8, one
+// light, without the medium (range 0) and with it (1); wall time of the render, its stages in the counters.
+void BM_LtsdGpuNewJobPerFrame(benchmark::State& state) {
+    std::vector<std::string> overrides = {"camera.width=512", "camera.height=512", "views[ltsd].parameters.device=gpu",
+                                          "views[ltsd].parameters.shadows=off",
+                                          "views[ltsd].lights=[\"ceiling panel\"]"};
+    if (state.range(0) == 0) overrides.push_back("views[ltsd].media=[]");
+    const Project project = loadProject(techniqueCatalogue(), kProject, overrides);
+    bench::StageCounters stages;
+    for (auto _ : state) {
+        RenderJob job = makeViewJob(project, kProject, "ltsd", {});
+        const RenderResult r = runJob(job);
+        state.SetIterationTime(std::stod(r.image.metadata.at("renderTime")));
+        stages.add(r.image);
+    }
+    stages.report(state);
+}
+BENCHMARK(BM_LtsdGpuNewJobPerFrame)->Arg(0)->Arg(1)->UseManualTime()->Iterations(4)->Unit(benchmark::kMillisecond);
 
 // The cost of the accurate S against the paper's: N = 8, one light, the polygon-averaged transmittance, on the GPU
 // (range 0; lavapipe here) and the CPU path (1), the two methods alternately frame by frame; the wall time of each

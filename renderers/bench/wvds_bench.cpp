@@ -8,6 +8,8 @@
 //   the technique's own pass as the paper times it (Sec. 7). Target on lavapipe: analytic <= 10 ms. (docs/wvds.md,
 //   Measured, has the numbers and what the full frame adds.)
 // - BM_WvdsCpu/estimator: wall time of the CPU path (every core).
+#include "stage_counters.h"
+
 #include "tyndall/core/resources.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
@@ -41,12 +43,15 @@ void gpuFrames(benchmark::State& state, bool meshes) {
     RenderJob job = frameJob(estimator, "gpu", meshes);
     runJob(job);  // compiles the pipeline
     double longest = 0.0;
+    bench::StageCounters stages;
     for (auto _ : state) {
         const RenderResult r = runJob(job);
         state.SetIterationTime(std::stod(r.image.metadata.at("gpu:totalMs")) * 1e-3);
         longest = std::stod(r.image.metadata.at("gpu:longestSliceMs"));
+        stages.add(r.image);
     }
     state.counters["longestSliceMs"] = longest;
+    stages.report(state);
     state.SetLabel(estimator);
 }
 

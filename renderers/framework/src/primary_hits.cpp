@@ -77,9 +77,11 @@ PrimaryHits RasterPrimaryHits::render(const gpu::Buffer& bvhNodes, const gpu::Bu
             pipeline_ = std::make_unique<gpu::GraphicsPipeline>(context_, desc);
             out.compileSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         }
-        gpu::RenderTarget records(context_, std::uint32_t(wide), std::uint32_t(high), VK_FORMAT_R32G32B32A32_SFLOAT);
-        gpu::RenderTarget depth(context_, std::uint32_t(wide), std::uint32_t(high), VK_FORMAT_D32_SFLOAT);
-        out.records = std::make_unique<gpu::Buffer>(context_, records.layerBytes());
+        gpu::RenderTarget& records = gpu::keptRenderTarget(context_, recordTarget_, std::uint32_t(wide),
+                                                           std::uint32_t(high), VK_FORMAT_R32G32B32A32_SFLOAT);
+        gpu::RenderTarget& depth = gpu::keptRenderTarget(context_, depthTarget_, std::uint32_t(wide),
+                                                         std::uint32_t(high), VK_FORMAT_D32_SFLOAT);
+        gpu::Buffer& recordBuffer = gpu::keptBuffer(context_, records_, records.layerBytes());
         const Push push{camera, samplesPerSide};
         const std::vector<const gpu::Buffer*> buffers{&bvhNodes, &bvhTriangles};
         gpu::PassDesc pass;
@@ -91,13 +93,14 @@ PrimaryHits RasterPrimaryHits::render(const gpu::Buffer& bvhNodes, const gpu::Bu
             pipeline_->beginPass(cmd, pass);
             if (triangles > 0) pipeline_->draw(cmd, buffers, &push, std::uint32_t(3 * triangles));
             pipeline_->endPass(cmd);
-            records.recordCopy(cmd, *out.records, 0);
+            records.recordCopy(cmd, recordBuffer, 0);
         });
         pipeline_->resetDescriptors();
+        out.records = &recordBuffer;
         out.visibility = "raster";
     } catch (const gpu::GpuError& e) {
         if (pipeline_) pipeline_->resetDescriptors();
-        out.records.reset();
+        out.records = nullptr;
         out.visibility = std::string("traced: ") + e.what();
     }
     return out;

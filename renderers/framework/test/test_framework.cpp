@@ -5,13 +5,17 @@
 #include "tyndall/framework/gpu_accumulation.h"
 #include "tyndall/framework/kernel_cache.h"
 #include "tyndall/framework/progressive.h"
+#include "tyndall/framework/renderer_pool.h"
 #include "tyndall/framework/row_loop.h"
 #include "tyndall/framework/shader_params.h"
+#include "tyndall/framework/stage_times.h"
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <random>
 #include <thread>
@@ -259,6 +263,72 @@ TEST_F(GpuAccumulationTest, ThrowsCancelledBetweenSlices) {
     callbacks.cancel = &cancel;
     EXPECT_THROW(accumulation.addSamples(kernel(), {&scale}, 0, 4, callbacks, [](const auto& s) { return s; }),
                  Cancelled);
+}
+
+TEST(StageTimes, EachMarkTakesTheTimeSinceThePreviousAndRepeatedStagesAddUp) {
+    StageTimes times;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    times.mark("prepare");
+    times.mark("kernel");
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    times.mark("kernel");
+    EXPECT_GE(times.ms("prepare"), 19.0);
+    EXPECT_GE(times.ms("kernel"), 9.0);
+    EXPECT_LT(times.ms("kernel"), times.ms("prepare"));
+    EXPECT_EQ(times.ms("readback"), 0.0);
+    ASSERT_EQ(times.stages().size(), 2u);
+    EXPECT_EQ(times.stages()[0].first, "prepare");
+    EXPECT_DOUBLE_EQ(times.totalMs(), times.ms("prepare") + times.ms("kernel"));
+    std::map<std::string, std::string> metadata;
+    times.writeTo(metadata);
+    ASSERT_EQ(metadata.size(), 2u);
+    EXPECT_NEAR(std::stod(metadata.at("time:prepare")), times.ms("prepare"), 0.01 * times.ms("prepare"));
+    EXPECT_TRUE(metadata.count("time:kernel"));
+}
+
+// A stand-in for a technique's GPU renderer: counts how many were made.
+struct CountedRenderer {
+    CountedRenderer() { ++made; }
+    static inline int made = 0;
+};
+
+TEST(RendererPool, ALeaseGivenBackServesTheNextAndConcurrentLeasesGetTheirOwn) {
+    CountedRenderer* first = nullptr;
+    {
+        RendererPool<CountedRenderer>::Lease a = RendererPool<CountedRenderer>::lease();
+        first = &*a;
+        EXPECT_EQ(RendererPool<CountedRenderer>::idle(), 0u);
+    }
+    EXPECT_EQ(RendererPool<CountedRenderer>::idle(), 1u);
+    {
+        RendererPool<CountedRenderer>::Lease again = RendererPool<CountedRenderer>::lease();
+        EXPECT_EQ(&*again, first);  // kept, not made anew
+        RendererPool<CountedRenderer>::Lease other = RendererPool<CountedRenderer>::lease();
+        EXPECT_NE(&*other, first);  // in use: a second one
+        EXPECT_EQ(CountedRenderer::made, 2);
+        RendererPool<CountedRenderer>::Lease moved = std::move(other);
+        EXPECT_FALSE(other);
+        EXPECT_TRUE(moved);
+    }
+    EXPECT_EQ(RendererPool<CountedRenderer>::idle(), 2u);
+    EXPECT_EQ(CountedRenderer::made, 2);
+}
+
+TEST_F(GpuAccumulationTest, AKeptBufferIsReusedUntilALargerOneIsAskedFor) {
+    std::unique_ptr<gpu::Buffer> slot;
+    gpu::Buffer& a = gpu::keptBuffer(context(), slot, 4096);
+    EXPECT_EQ(a.size(), 4096u);
+    const std::uint32_t word = 0xC0FFEEu;
+    a.upload(&word, sizeof word);
+    EXPECT_EQ(&gpu::keptBuffer(context(), slot, 4096), &a);
+    gpu::Buffer& smaller = gpu::keptBuffer(context(), slot, 1024);  // a reduced image: the same buffer
+    EXPECT_EQ(&smaller, &a);
+    std::uint32_t back = 0;
+    smaller.download(&back, sizeof back);
+    EXPECT_EQ(back, word);  // what the last render left
+    gpu::Buffer& larger = gpu::keptBuffer(context(), slot, 8192);
+    EXPECT_GE(larger.size(), 8192u);
+    EXPECT_EQ(slot.get(), &larger);
 }
 
 }  // namespace

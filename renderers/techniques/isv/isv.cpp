@@ -5,6 +5,7 @@
 
 #include "tyndall/core/error.h"
 #include "tyndall/core/text.h"
+#include "tyndall/framework/renderer_pool.h"
 #include "tyndall/gpu/context.h"
 
 #include <chrono>
@@ -169,8 +170,8 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
             };
         std::vector<glm::vec4> lit;
         if (onGpu) {
-            if (!gpu_) gpu_ = std::make_unique<isv::GpuRenderer>();
-            isv::GpuOutput g = gpu_->render(scene, passCallbacks, settings.proxies);
+            RendererPool<isv::GpuRenderer>::Lease renderer = RendererPool<isv::GpuRenderer>::lease();
+            isv::GpuOutput g = renderer->render(scene, passCallbacks, settings.proxies);
             lit = std::move(g.pixels);
             deviceName = g.deviceName;
             timings.totalMs += g.timings.totalMs;

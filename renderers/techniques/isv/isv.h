@@ -13,10 +13,6 @@
 
 namespace tyndall {
 
-namespace isv {
-class GpuRenderer;
-}
-
 class IsvTechnique final : public Technique {
 public:
     IsvTechnique();
@@ -37,7 +33,6 @@ public:
     void check(const RenderRequest& request) const override;
 
 private:
-    std::unique_ptr<isv::GpuRenderer> gpu_;  // created on the first GPU render, kept for its pipelines
 };
 
 }  // namespace tyndall

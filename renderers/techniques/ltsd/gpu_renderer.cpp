@@ -62,22 +62,25 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, 
                         compileSeconds);
 }
 
-GpuOutput GpuRenderer::render(const PreparedScene& scene, int width, int height, const RenderCallbacks& callbacks) {
-    return run(scene, false, width, height, 0, 0u, callbacks);
+GpuOutput GpuRenderer::render(const PreparedScene& scene, int width, int height, const RenderCallbacks& callbacks,
+                              StageTimes& times) {
+    return run(scene, false, width, height, 0, 0u, callbacks, times);
 }
 
 GpuOutput GpuRenderer::renderRatio(const PreparedScene& scene, int width, int height, int samples, std::uint32_t seed,
-                                   const RenderCallbacks& callbacks) {
-    return run(scene, true, width, height, samples, seed, callbacks);
+                                   const RenderCallbacks& callbacks, StageTimes& times) {
+    return run(scene, true, width, height, samples, seed, callbacks, times);
 }
 
 GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, int height, int samples,
-                           std::uint32_t seed, const RenderCallbacks& callbacks) {
+                           std::uint32_t seed, const RenderCallbacks& callbacks, StageTimes& times) {
     GpuOutput out;
+    const std::string pass = ratio ? "ratio " : "";
     gpu::Context& ctx = *context_;
     auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
     auto nodes = upload(scene.surfaces.bvh.nodes);
     auto triangles = upload(scene.surfaces.bvh.triangles);
+    times.mark(pass + "upload");
     // The analytic pass's rays sit on the S x S grid of each pixel: their closest hits can be rasterised. The ratio
     // pass's rays are jittered: traced.
     PrimaryHits primary;
@@ -86,9 +89,11 @@ GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, in
                                       std::max(scene.frame.supersampling, 1));
         out.primaryVisibility = primary.visibility;
         out.compileSeconds += primary.compileSeconds;
+        times.mark("camera hits");
     }
     const bool raster = primary.records != nullptr;
     gpu::ComputeKernel& k = kernel(scene, ratio, raster, out.compileSeconds);
+    times.mark("compile");
     auto frame = std::make_unique<gpu::Buffer>(ctx, sizeof(shader::LtsdFrame));
     frame->upload(&scene.frame, sizeof(shader::LtsdFrame));
     auto lights = upload(scene.lights);
@@ -98,12 +103,13 @@ GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, in
     auto ltcEntries = upload(scene.ltcEntries);
     const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
     const std::uint64_t perPixel = ratio ? 4 : 2;
-    gpu::Buffer radiance(ctx, pixels * perPixel * sizeof(glm::vec4));
+    gpu::Buffer& radiance = gpu::keptBuffer(ctx, outputs_[ratio], pixels * perPixel * sizeof(glm::vec4));
+    times.mark(pass + "upload");
     const std::vector<const gpu::Buffer*> bindings{nodes.get(),      triangles.get(),
                                                    frame.get(),      lights.get(),
                                                    planes.get(),     surfaceTriangles.get(),
                                                    materials.get(),  &radiance,
-                                                   ltcEntries.get(), raster ? primary.records.get() : nodes.get()};
+                                                   ltcEntries.get(), raster ? primary.records : nodes.get()};
     gpu::SliceStats stats;
     try {
         stats = gpu::runSliced(
@@ -121,7 +127,10 @@ GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, in
         throw;
     }
     k.resetDescriptors();
-    out.values = radiance.download<glm::vec4>(pixels * perPixel);
+    times.mark(pass + "kernel");
+    radiance.download(values_[ratio], pixels * perPixel);
+    out.values = &values_[ratio];
+    times.mark(pass + "readback");
     out.deviceName = ctx.device().name;
     out.longestSliceMs = stats.longestMs;
     out.gpuMs = stats.totalMs + primary.gpuMs;

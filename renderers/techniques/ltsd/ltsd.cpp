@@ -5,7 +5,9 @@
 
 #include "tyndall/core/error.h"
 #include "tyndall/core/text.h"
+#include "tyndall/framework/renderer_pool.h"
 #include "tyndall/framework/row_loop.h"
+#include "tyndall/framework/stage_times.h"
 #include "tyndall/gpu/context.h"
 #include "tyndall/image/denoise.h"
 
@@ -185,9 +187,11 @@ Image ratioTerm(const std::vector<glm::vec4>& sums, int width, int height, int t
 RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
+    StageTimes times;
     requireSupported(request.scene);
     const ltsd::Settings settings = ltsd::settingsFrom(request.params);
     const ltsd::PreparedScene scene = ltsd::prepareScene(request.scene, settings, request.projectDir);
+    times.mark("prepare");
     const int width = request.scene.camera.width, height = request.scene.camera.height;
 
     const bool onGpu = runsOnGpu(settings.device, AutoDevice::HardwareGpu);
@@ -195,15 +199,20 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
     const int ratioSamples =
         request.spp > 0 && request.spp < RenderRequest::kUnboundedSpp ? request.spp : settings.ratioSamples;
     const std::uint32_t seed = std::uint32_t(request.seed ^ (request.seed >> 32));
-    std::vector<glm::vec4> terms, sums;
+    // The passes' values: the CPU path's own, or the GPU renderer's (kept there from render to render).
+    std::vector<glm::vec4> cpuTerms, cpuSums;
+    const std::vector<glm::vec4>* terms = &cpuTerms;
+    const std::vector<glm::vec4>* sums = &cpuSums;
+    // The process's renderers (framework/renderer_pool.h), leased until the values are resolved.
+    RendererPool<ltsd::GpuRenderer>::Lease renderer;
     std::string deviceName = "cpu";
     double longestSliceMs = 0.0, gpuMs = 0.0, compileSeconds = 0.0;
     double primaryHitsMs = 0.0, ratioMs = 0.0;  // of gpuMs: the camera hits, the ratio estimators' pass
     std::string primaryVisibility;
     if (onGpu) {
-        if (!gpu_) gpu_ = std::make_unique<ltsd::GpuRenderer>();
-        ltsd::GpuOutput g = gpu_->render(scene, width, height, callbacks);
-        terms = std::move(g.values);
+        renderer = RendererPool<ltsd::GpuRenderer>::lease();
+        ltsd::GpuOutput g = renderer->render(scene, width, height, callbacks, times);
+        terms = g.values;
         deviceName = g.deviceName;
         longestSliceMs = g.longestSliceMs;
         gpuMs = g.gpuMs;
@@ -211,16 +220,18 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
         compileSeconds = g.compileSeconds;
         primaryVisibility = g.primaryVisibility;
         if (shadows) {
-            ltsd::GpuOutput r = gpu_->renderRatio(scene, width, height, ratioSamples, seed, callbacks);
-            sums = std::move(r.values);
+            ltsd::GpuOutput r = renderer->renderRatio(scene, width, height, ratioSamples, seed, callbacks, times);
+            sums = r.values;
             longestSliceMs = std::max(longestSliceMs, r.longestSliceMs);
             gpuMs += r.gpuMs;
             ratioMs = r.gpuMs;
             compileSeconds += r.compileSeconds;
         }
     } else {
-        terms = renderCpu(scene, width, height, request.threads, callbacks);
-        if (shadows) sums = renderRatioCpu(scene, width, height, ratioSamples, seed, request.threads, callbacks);
+        cpuTerms = renderCpu(scene, width, height, request.threads, callbacks);
+        times.mark("analytic pass");
+        if (shadows) cpuSums = renderRatioCpu(scene, width, height, ratioSamples, seed, request.threads, callbacks);
+        times.mark("ratio pass");
     }
 
     // Eq. 23: L = A-bar <R_A> + T L_c-bar <R_C>, each ratio from its numerator and denominator, denoised apart or raw.
@@ -235,7 +246,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
             for (int x = 0; x < width; ++x) {
                 const std::size_t i = std::size_t(y) * width + x;
                 for (int c = 0; c < 3; ++c)
-                    unshadowed.at(x, y, c) = terms[2 * i][c] + terms[2 * i + 1][c];
+                    unshadowed.at(x, y, c) = (*terms)[2 * i][c] + (*terms)[2 * i + 1][c];
             }
         guides.depth = &surface.depth;
         guides.normal = &surface.normal;
@@ -243,9 +254,9 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
         DenoiseSettings denoiseSettings;
         denoiseSettings.ratioFallback = 1.0f;
         const bool denoised = settings.shadows == ltsd::kShadowsRatioDenoised;
-        ratioAir = denoiseRatio(ratioTerm(sums, width, height, 0), ratioTerm(sums, width, height, 1), nullptr, guides,
+        ratioAir = denoiseRatio(ratioTerm(*sums, width, height, 0), ratioTerm(*sums, width, height, 1), nullptr, guides,
                                 denoiseSettings, denoised);
-        ratioSurface = denoiseRatio(ratioTerm(sums, width, height, 2), ratioTerm(sums, width, height, 3), nullptr,
+        ratioSurface = denoiseRatio(ratioTerm(*sums, width, height, 2), ratioTerm(*sums, width, height, 3), nullptr,
                                     guides, denoiseSettings, denoised);
     }
 
@@ -256,7 +267,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
         for (int x = 0; x < width; ++x) {
             const std::size_t i = std::size_t(y) * width + x;
             for (int c = 0; c < 3; ++c) {
-                const float air = terms[2 * i][c], surface = terms[2 * i + 1][c];
+                const float air = (*terms)[2 * i][c], surface = (*terms)[2 * i + 1][c];
                 float value = air + surface;
                 if (shadows) value = air * ratioAir.at(x, y, c) + surface * ratioSurface.at(x, y, c);
                 const bool finite = std::isfinite(value) && std::isfinite(air + surface);
@@ -266,6 +277,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
             }
         }
     if (callbacks.progress) callbacks.progress(1.0);
+    times.mark("resolve");
     result.spp = shadows ? ratioSamples : 1;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     stampMetadata(result, request);
@@ -280,6 +292,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
     if (!scene.ltcTablePath.empty()) meta["ltsd:ltcTable"] = scene.ltcTablePath;
     if (!scene.ltcAnisotropicTablePath.empty()) meta["ltsd:ltcAnisotropicTable"] = scene.ltcAnisotropicTablePath;
     meta["ltsd:shadows"] = shadows ? ltsd::shadowNames()[std::size_t(settings.shadows)] : "off";
+    times.writeTo(meta);
     if (onGpu) {
         meta["gpu:longestSliceMs"] = formatShort(longestSliceMs);
         meta["gpu:totalMs"] = formatShort(gpuMs);

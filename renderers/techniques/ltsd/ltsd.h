@@ -12,10 +12,6 @@
 
 namespace tyndall {
 
-namespace ltsd {
-class GpuRenderer;
-}
-
 class LtsdTechnique final : public Technique {
 public:
     LtsdTechnique();
@@ -37,7 +33,6 @@ public:
     void check(const RenderRequest& request) const override;
 
 private:
-    std::unique_ptr<ltsd::GpuRenderer> gpu_;  // created on the first GPU render, kept for its pipelines
 };
 
 }  // namespace tyndall

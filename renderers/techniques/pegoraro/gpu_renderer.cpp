@@ -123,7 +123,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
                                                &out,
                                                &outOverflows,
                                                list.get(),
-                                               primary.records ? primary.records.get() : nodes.get()};
+                                               primary.records ? primary.records : nodes.get()};
     };
 
     // `count` items of a pass; progress runs over [progressFrom, progressTo). The listed pass starts with a smaller

@@ -5,6 +5,7 @@
 
 #include "tyndall/core/error.h"
 #include "tyndall/core/text.h"
+#include "tyndall/framework/renderer_pool.h"
 #include "tyndall/framework/row_loop.h"
 
 #include <atomic>
@@ -172,11 +173,11 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
     bool useDouble = settings.precision == Precision::Double;
     const bool onGpu = runsOnGpu(settings.device, AutoDevice::HardwareGpu);
     if (onGpu) {
-        if (!gpu_) gpu_ = std::make_unique<pegoraro::GpuRenderer>();
+        RendererPool<pegoraro::GpuRenderer>::Lease renderer = RendererPool<pegoraro::GpuRenderer>::lease();
         if (settings.precision == Precision::Auto)
-            useDouble = scene.maxTerms - 1 > pegoraro::kAutoFloatMaxOrder && gpu_->context().device().shaderFloat64;
+            useDouble = scene.maxTerms - 1 > pegoraro::kAutoFloatMaxOrder && renderer->context().device().shaderFloat64;
         pegoraro::checkClosedFormRange(scene, settings, useDouble);
-        pegoraro::GpuOutput g = gpu_->render(scene, useDouble, width, height, callbacks);
+        pegoraro::GpuOutput g = renderer->render(scene, useDouble, width, height, callbacks);
         radiance = std::move(g.radiance);
         overflows = std::move(g.overflows);
         deviceName = g.deviceName;

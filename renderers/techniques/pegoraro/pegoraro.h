@@ -9,10 +9,6 @@
 
 namespace tyndall {
 
-namespace pegoraro {
-class GpuRenderer;
-}
-
 class PegoraroTechnique final : public Technique {
 public:
     PegoraroTechnique();
@@ -36,7 +32,6 @@ public:
     static constexpr int kMaxLightTerms = 33;
 
 private:
-    std::unique_ptr<pegoraro::GpuRenderer> gpu_;  // created on the first GPU render, kept for its pipelines
 };
 
 }  // namespace tyndall

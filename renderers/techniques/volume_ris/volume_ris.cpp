@@ -6,7 +6,9 @@
 #include "tyndall/core/error.h"
 #include "tyndall/core/text.h"
 #include "tyndall/framework/progressive.h"
+#include "tyndall/framework/renderer_pool.h"
 #include "tyndall/framework/row_loop.h"
+#include "tyndall/framework/stage_times.h"
 
 #include <algorithm>
 #include <atomic>
@@ -156,9 +158,11 @@ void VolumeRisTechnique::check(const RenderRequest& request) const {
 RenderResult VolumeRisTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
+    StageTimes times;
     requireSupported(request.scene);
     const Settings settings = volume_ris::settingsFrom(request.params);
     const PreparedScene scene = volume_ris::prepareScene(request.scene, settings, request.seed, request.projectDir);
+    times.mark("prepare");
     const int spp = request.spp > 0 ? request.spp : settings.samplesPerPixel;
     const int width = request.scene.camera.width, height = request.scene.camera.height;
 
@@ -166,24 +170,33 @@ RenderResult VolumeRisTechnique::render(const RenderRequest& request, const Rend
     // path (docs/volume-ris.md, Measured): auto takes any Vulkan device.
     const bool onGpu = runsOnGpu(settings.device, AutoDevice::AnyGpu);
     std::vector<glm::vec4> acc;  // the CPU path's accumulators
+    RendererPool<volume_ris::GpuRenderer>::Lease renderer;  // the process's renderers (framework/renderer_pool.h)
+    if (onGpu) renderer = RendererPool<volume_ris::GpuRenderer>::lease();
     if (onGpu) {
-        if (!gpu_) gpu_ = std::make_unique<volume_ris::GpuRenderer>();
-        gpu_->begin(scene, width, height);
+        renderer->begin(scene, width, height);
     } else {
         acc.assign(std::size_t(width) * height * 4, glm::vec4(0.0f));
     }
 
-    // Passes of 1, 1, 2, 4, ... camera samples until spp or the time limit (framework/progressive.h).
+    times.mark("upload");
+
+    // Passes of 1, 1, 2, 4, ... camera samples until spp or the time limit (framework/progressive.h). Each stage's time
+    // sums over the passes.
     std::atomic<long> nonFiniteSamples{0};
     long nonFinitePixels = 0;
     auto addSamples = [&](std::uint32_t first, std::uint32_t end, const RenderCallbacks& pass) {
         if (onGpu)
-            gpu_->addSamples(first, end, pass);
+            renderer->addSamples(first, end, pass);
         else
             addSamplesCpu(scene, width, height, acc, first, end, request.threads, pass, nonFiniteSamples);
+        times.mark("samples");
     };
     ProgressiveResult progressive = renderProgressively(request, spp, callbacks, start, addSamples, [&] {
-        return resolve(onGpu ? gpu_->readAccumulators() : acc, width, height, nonFinitePixels);
+        const std::vector<glm::vec4>& values = onGpu ? renderer->readAccumulators() : acc;
+        times.mark("readback");
+        Image image = resolve(values, width, height, nonFinitePixels);
+        times.mark("resolve");
+        return image;
     });
     RenderResult result;
     result.image = std::move(progressive.image);
@@ -191,11 +204,12 @@ RenderResult VolumeRisTechnique::render(const RenderRequest& request, const Rend
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     stampMetadata(result, request);
     auto& meta = result.image.metadata;
+    times.writeTo(meta);
     meta["device"] = onGpu ? gpu::sharedContext()->device().name : "cpu";
     meta["nonFiniteSamples"] = std::to_string(nonFiniteSamples.load() + nonFinitePixels);
     if (onGpu) {
-        meta["gpu:totalMs"] = formatShort(gpu_->gpuMs());
-        meta["gpu:compileSeconds"] = formatShort(gpu_->compileSeconds());
+        meta["gpu:totalMs"] = formatShort(renderer->gpuMs());
+        meta["gpu:compileSeconds"] = formatShort(renderer->compileSeconds());
     }
     return result;
 }

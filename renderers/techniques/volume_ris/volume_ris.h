@@ -11,10 +11,6 @@
 
 namespace tyndall {
 
-namespace volume_ris {
-class GpuRenderer;
-}
-
 class VolumeRisTechnique final : public Technique {
 public:
     VolumeRisTechnique();
@@ -35,7 +31,6 @@ public:
     void check(const RenderRequest& request) const override;
 
 private:
-    std::unique_ptr<volume_ris::GpuRenderer> gpu_;  // created on the first GPU render, kept for its pipelines
 };
 
 }  // namespace tyndall

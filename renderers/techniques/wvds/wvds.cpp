@@ -6,7 +6,9 @@
 #include "tyndall/core/error.h"
 #include "tyndall/core/text.h"
 #include "tyndall/framework/progressive.h"
+#include "tyndall/framework/renderer_pool.h"
 #include "tyndall/framework/row_loop.h"
+#include "tyndall/framework/stage_times.h"
 #include "tyndall/image/denoise.h"
 #include "tyndall/image/metrics.h"
 
@@ -239,9 +241,11 @@ void WvdsTechnique::check(const RenderRequest& request) const {
 RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
+    StageTimes times;
     requireSupported(request.scene);
     const Settings settings = wvds::settingsFrom(request.params);
     const PreparedScene scene = wvds::prepareScene(request.scene, settings, request.seed, request.projectDir);
+    times.mark("prepare");
     const int spp = request.spp > 0 ? request.spp : settings.samplesPerPixel;
 
     Layout layout;
@@ -256,25 +260,33 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
     const Image depth =
         denoise ? centreRayGuides(scene.surfaces, scene.frame.camera, layout.width, layout.height).depth : Image();
     std::vector<glm::vec4> acc;  // the CPU path's accumulators
+    RendererPool<wvds::GpuRenderer>::Lease renderer;  // the process's renderers (framework/renderer_pool.h)
+    if (onGpu) renderer = RendererPool<wvds::GpuRenderer>::lease();
     if (onGpu) {
-        if (!gpu_) gpu_ = std::make_unique<wvds::GpuRenderer>();
-        gpu_->begin(scene, layout.width, layout.height, layout.stride, layout.ratioLights);
+        renderer->begin(scene, layout.width, layout.height, layout.stride, layout.ratioLights);
     } else {
         acc.assign(layout.size(), glm::vec4(0.0f));
     }
 
-    // Passes of 1, 1, 2, 4, ... camera samples until spp or the time limit (framework/progressive.h).
+    times.mark("upload");
+
+    // Passes of 1, 1, 2, 4, ... camera samples until spp or the time limit (framework/progressive.h). Each stage's time
+    // sums over the passes.
     std::atomic<long> nonFiniteSamples{0};
     long nonFinitePixels = 0;
     auto addSamples = [&](std::uint32_t first, std::uint32_t end, const RenderCallbacks& pass) {
         if (onGpu)
-            gpu_->addSamples(first, end, pass);
+            renderer->addSamples(first, end, pass);
         else
             addSamplesCpu(scene, layout, acc, first, end, request.threads, pass, nonFiniteSamples);
+        times.mark("samples");
     };
     ProgressiveResult progressive = renderProgressively(request, spp, callbacks, start, addSamples, [&] {
-        return resolve(onGpu ? gpu_->readAccumulators() : acc, layout, request.threads, nonFinitePixels,
-                       denoise ? &depth : nullptr);
+        const std::vector<glm::vec4>& values = onGpu ? renderer->readAccumulators() : acc;
+        times.mark("readback");
+        Image image = resolve(values, layout, request.threads, nonFinitePixels, denoise ? &depth : nullptr);
+        times.mark("resolve");
+        return image;
     });
     RenderResult result;
     result.image = std::move(progressive.image);
@@ -282,14 +294,15 @@ RenderResult WvdsTechnique::render(const RenderRequest& request, const RenderCal
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     stampMetadata(result, request);
     auto& meta = result.image.metadata;
-    meta["device"] = onGpu ? gpu_->context().device().name : "cpu";
+    times.writeTo(meta);
+    meta["device"] = onGpu ? renderer->context().device().name : "cpu";
     meta["wvds:estimator"] = wvds::estimatorNames()[std::size_t(settings.estimator)];
     if (denoise) meta["wvds:denoise"] = "numerator and denominator denoised separately (variance channels: raw)";
     meta["nonFiniteSamples"] = std::to_string(nonFiniteSamples.load() + nonFinitePixels);
     if (onGpu) {
-        meta["gpu:longestSliceMs"] = formatShort(gpu_->longestSliceMs());
-        meta["gpu:totalMs"] = formatShort(gpu_->gpuMs());
-        meta["gpu:compileSeconds"] = formatShort(gpu_->compileSeconds());
+        meta["gpu:longestSliceMs"] = formatShort(renderer->longestSliceMs());
+        meta["gpu:totalMs"] = formatShort(renderer->gpuMs());
+        meta["gpu:compileSeconds"] = formatShort(renderer->compileSeconds());
     }
     return result;
 }

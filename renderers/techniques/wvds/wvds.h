@@ -11,10 +11,6 @@
 
 namespace tyndall {
 
-namespace wvds {
-class GpuRenderer;
-}
-
 class WvdsTechnique final : public Technique {
 public:
     WvdsTechnique();
@@ -41,7 +37,6 @@ public:
     ProbeResult probe(const RenderRequest& request, const std::string& probeName, int x, int y) override;
 
 private:
-    std::unique_ptr<wvds::GpuRenderer> gpu_;  // created on the first GPU render, kept for its pipeline and buffers
 };
 
 }  // namespace tyndall

@@ -619,6 +619,28 @@ TEST_F(LtsdGpu, MatchesTheCpuPath) {
     }
 }
 
+// The studio and the CLI make a technique object per render; its GPU renderer (kernels, the raster pass's pipeline, the
+// buffers) comes from the process's pool (framework/renderer_pool.h). A later job compiles nothing, and the buffers
+// kept through a smaller render in between (a reduced first image) leave the next image bit for bit a first render's.
+TEST_F(LtsdGpu, NewJobsReuseThePooledRendererWithIdenticalImages) {
+    const std::vector<std::string> set = {"views[ltsd].parameters.device=gpu", "views[ltsd].parameters.shadows=ratio",
+                                          kPlate};
+    const RenderResult first = renderView(loadRoom(32, 24, set), "ltsd", 4);
+    const RenderResult smaller = renderView(loadRoom(16, 12, set), "ltsd", 4);
+    const RenderResult again = renderView(loadRoom(32, 24, set), "ltsd", 4);
+    ASSERT_NE(again.image.metadata.at("device"), "cpu");
+    EXPECT_EQ(std::stod(smaller.image.metadata.at("gpu:compileSeconds")), 0.0);
+    EXPECT_EQ(std::stod(again.image.metadata.at("gpu:compileSeconds")), 0.0);
+    EXPECT_EQ(again.image.metadata.at("primaryVisibility"), "raster");
+    // Where the frame went (framework/stage_times.h), in the metadata.
+    for (const char* stage :
+         {"time:prepare", "time:camera hits", "time:kernel", "time:ratio kernel", "time:readback", "time:resolve"})
+        EXPECT_EQ(again.image.metadata.count(stage), 1u) << stage;
+    ASSERT_EQ(first.image.channels(), again.image.channels());
+    const std::size_t floats = std::size_t(32) * 24 * first.image.channels().size();
+    EXPECT_TRUE(std::equal(first.image.data(), first.image.data() + floats, again.image.data()));
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // What it refuses
 

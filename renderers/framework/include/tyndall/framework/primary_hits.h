@@ -18,6 +18,7 @@ namespace tyndall {
 
 namespace gpu {
 class GraphicsPipeline;
+class RenderTarget;
 }
 
 // Why `device` cannot rasterise the closest hits of a grid of samplesWide x samplesHigh samples over `triangles`
@@ -27,7 +28,8 @@ std::string rasterPrimaryUnsupported(const gpu::DeviceInfo& device, std::uint64_
                                      std::uint64_t samplesHigh, std::uint64_t triangles);
 
 struct PrimaryHits {
-    std::unique_ptr<gpu::Buffer> records;  // one vec4 per grid sample; null when the kernel must trace
+    // One vec4 per grid sample, kept by the RasterPrimaryHits until its next render; null when the kernel must trace.
+    const gpu::Buffer* records = nullptr;
     // "raster", or "traced: <why>" (the images' metadata key "primaryVisibility", docs/conventions.md).
     std::string visibility;
     double gpuMs = 0.0;
@@ -52,6 +54,9 @@ public:
 private:
     gpu::Context& context_;
     std::unique_ptr<gpu::GraphicsPipeline> pipeline_;
+    // Kept from render to render (gpu::keptBuffer's reason).
+    std::unique_ptr<gpu::RenderTarget> recordTarget_, depthTarget_;
+    std::unique_ptr<gpu::Buffer> records_;
 };
 
 }  // namespace tyndall

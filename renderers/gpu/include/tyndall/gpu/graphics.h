@@ -17,6 +17,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -76,6 +77,18 @@ private:
     VkPipelineStageFlags lastStages_ = VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT;
     VkAccessFlags lastAccess_ = 0;
 };
+
+// The render target in `slot`, made anew only when it is missing or differs in size, format or layers (keptBuffer's
+// reason: a renderer's targets stay from one render to the next).
+inline RenderTarget& keptRenderTarget(Context& context, std::unique_ptr<RenderTarget>& slot, std::uint32_t width,
+                                      std::uint32_t height, VkFormat format, std::uint32_t layers = 1) {
+    if (!slot || slot->width() != width || slot->height() != height || slot->format() != format ||
+        slot->layers() != layers) {
+        slot.reset();
+        slot = std::make_unique<RenderTarget>(context, width, height, format, layers);
+    }
+    return *slot;
+}
 
 // The blend state of one colour attachment: result = src * srcFactor (op) dst * dstFactor, for colour and alpha.
 struct Blend {

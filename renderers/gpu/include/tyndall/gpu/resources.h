@@ -63,6 +63,18 @@ std::unique_ptr<Buffer> uploadBuffer(Context& context, const std::vector<T>& val
     return buffer;
 }
 
+// The buffer in `slot`, made anew only when it is missing or smaller than `bytes`: a renderer keeps its output buffers
+// from render to render (an edit renders the view again at the same size, or smaller for a reduced first image), since
+// a fresh buffer of a few MB costs more in page faults on first touch than the pass that writes it (~8 ms per 8 MB on
+// this VM). It may be larger than asked, and holds what the last render left: the caller writes the part it reads.
+inline Buffer& keptBuffer(Context& context, std::unique_ptr<Buffer>& slot, VkDeviceSize bytes) {
+    if (!slot || slot->size() < bytes) {
+        slot.reset();  // the old one's memory goes back before the new one's is taken
+        slot = std::make_unique<Buffer>(context, bytes);
+    }
+    return *slot;
+}
+
 // Set 0 of a pipeline: `bindingCount` storage buffers (binding i = buffers[i]) visible to `stages`, and descriptor sets
 // for it from pools that grow when the busiest frame needs more (ComputeKernel and GraphicsPipeline).
 class StorageDescriptorSets {
