@@ -3,8 +3,12 @@
 // The time of an iteration is the frame's GPU time from the device's timestamps (metadata gpu:totalMs); the first
 // render, which compiles the pipelines, is not timed. Counters: each pass's GPU time as the technique records it
 // (metadata gpu:<pass>Ms: camera hits, air-light, ratios, shadow maps, sort, particles ...), the wall time of a frame
-// (wallMs: uploads, readback and the CPU's share included) and the target (targetMs; 0 where there is none).
+// (wallMs: uploads, readback and the CPU's share included), where that wall time goes (the stages of
+// framework/stage_times.h: prepare, upload, kernel, readback, resolve ..., ms) and the target (targetMs; 0 where there
+// is none).
 // tyndall-gpu-check (packaging/gpu-check.sh) runs it and compares each case with its target.
+#include "stage_counters.h"
+
 #include "tyndall/core/resources.h"
 #include "tyndall/project/project.h"
 #include "tyndall/techniques/registry.h"
@@ -88,12 +92,14 @@ void BM_Frame(benchmark::State& state, const FrameCase& c, int width, int height
         return;
     }
     std::map<std::string, double> passes;
+    bench::StageCounters stages;
     double wallMs = 0.0;
     for (auto _ : state) {
         const auto start = std::chrono::steady_clock::now();
         const RenderResult r = runJob(job);
         wallMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         state.SetIterationTime(std::stod(r.image.metadata.at("gpu:totalMs")) * 1e-3);
+        stages.add(r.image, "stage");
         for (const auto& [key, value] : r.image.metadata) {
             if (key.starts_with("gpu:") && key.ends_with("Ms") && key != "gpu:totalMs" && key != "gpu:longestSliceMs")
                 passes[key.substr(4)] += std::stod(value);
@@ -103,6 +109,7 @@ void BM_Frame(benchmark::State& state, const FrameCase& c, int width, int height
     for (const auto& [pass, sum] : passes)
         state.counters[pass] = sum / frames;
     state.counters["wallMs"] = wallMs / frames;
+    stages.report(state);
     state.counters["targetMs"] = width == 1920 && height == 1080 ? c.targetMs : 0.0;
     state.SetLabel(first.image.metadata.count("device") ? first.image.metadata.at("device") : "");
 }

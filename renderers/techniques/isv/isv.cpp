@@ -6,6 +6,7 @@
 #include "tyndall/core/error.h"
 #include "tyndall/core/text.h"
 #include "tyndall/framework/renderer_pool.h"
+#include "tyndall/framework/stage_times.h"
 #include "tyndall/gpu/context.h"
 
 #include <chrono>
@@ -131,9 +132,11 @@ std::vector<glm::vec4> renderCpu(const isv::PreparedScene& scene, int threads, c
 RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
+    StageTimes times;
     requireSupported(request.scene);
     const isv::Settings settings = isv::settingsFrom(request.params);
     isv::PreparedScene scene = isv::prepareScene(request.scene, settings, request.projectDir);
+    times.mark("prepare");
     const int width = request.scene.camera.width, height = request.scene.camera.height;
     const int ss = scene.supersampling;
     const int lights = isv::lightCount(request.scene);
@@ -193,6 +196,7 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
                 pixels[i] += glm::vec4(glm::vec3(lit[i]), 0.0f);
         }
     }
+    times.mark("passes");
 
     RenderResult result;
     result.image = Image(width, height, {"R", "G", "B", "transmittance"});
@@ -212,10 +216,12 @@ RenderResult IsvTechnique::render(const RenderRequest& request, const RenderCall
             }
         }
     if (callbacks.progress) callbacks.progress(1.0);
+    times.mark("resolve");
     result.spp = 1;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     stampMetadata(result, request);
     auto& meta = result.image.metadata;
+    times.writeTo(meta);
     meta["device"] = deviceName;
     meta["nonFiniteSamples"] = std::to_string(nonFinite);
     meta["isv:particles"] = std::to_string(scene.particles.size());

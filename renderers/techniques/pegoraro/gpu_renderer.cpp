@@ -58,7 +58,7 @@ gpu::ComputeKernel& GpuRenderer::kernel(const Variant& v, double& compileSeconds
 }
 
 GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int width, int height,
-                              const RenderCallbacks& callbacks) {
+                              const RenderCallbacks& callbacks, StageTimes& times) {
     if (useDouble && !context_->device().shaderFloat64)
         throw InputError(InputLocation{"", 0, 0, "precision"},
                          "the GPU '" + context_->device().name +
@@ -78,6 +78,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     auto upload = [&](const auto& values) { return gpu::uploadBuffer(ctx, values); };
     auto nodes = upload(scene.bvh.nodes);
     auto triangles = upload(scene.bvh.triangles);
+    times.mark("upload");
     // Every sample but those around a light's projection sits on the S x S grid of its pixel: its camera hit can be
     // rasterised.
     PrimaryHits primary;
@@ -85,9 +86,11 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         primary = primaryHits_.render(*nodes, *triangles, scene.bvh.triangles.size(), scene.frame.camera,
                                       std::max(scene.frame.supersampling, 1));
         compileSeconds += primary.compileSeconds;
+        times.mark("camera hits");
     }
     variant.raster = primary.records != nullptr;
     gpu::ComputeKernel& first = kernel(variant, compileSeconds);
+    times.mark("compile");
     // The variant with the quadrature's code, for the listed passes (compiled on first use, its time counted).
     auto fullKernel = [&]() -> gpu::ComputeKernel& {
         Variant full = variant;
@@ -111,6 +114,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
     gpu::Buffer radiance(ctx, samples * sizeof(glm::vec4));
     gpu::Buffer overflows(ctx, samples * sizeof(std::uint32_t));
     std::unique_ptr<gpu::Buffer> list = upload(std::vector<std::uint32_t>{0u});
+    times.mark("upload");
     auto bindings = [&](gpu::Buffer& out, gpu::Buffer& outOverflows) {
         return std::vector<const gpu::Buffer*>{nodes.get(),
                                                triangles.get(),
@@ -155,8 +159,10 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         totalMs += stats.totalMs;
     };
     pass(first, samples, 0, 0.0, variant.deferredFallback ? 0.9 : 1.0, radiance, overflows);
+    times.mark("closed form");
 
     std::vector<glm::vec4> perSample = radiance.download<glm::vec4>(samples);
+    times.mark("readback");
     if (variant.deferredFallback) {
         std::vector<std::uint32_t> deferred;
         for (std::uint64_t i = 0; i < samples; ++i)
@@ -164,8 +170,11 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         if (!deferred.empty()) {
             gpu::ComputeKernel& second = fullKernel();
             list = upload(deferred);
+            times.mark("compile");
             pass(second, deferred.size(), 1, 0.9, 0.95, radiance, overflows);
+            times.mark("fallback samples");
             perSample = radiance.download<glm::vec4>(samples);
+            times.mark("readback");
         }
     }
 
@@ -182,6 +191,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         }
         out.radiance[p] = glm::vec4(glm::vec3(sum) / float(perPixel), sum.w);
     }
+    times.mark("readback");
 
     // The pixels around a light's projection: their nodes (pegoraroSingularNode) by the full shader, summed per pixel.
     std::vector<std::uint32_t> singular;
@@ -194,6 +204,7 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
                     singular.push_back(std::uint32_t(y * width + x));
             }
     }
+    times.mark("singular pixels");
     if (!singular.empty()) {
         gpu::ComputeKernel& k = fullKernel();
         const std::uint32_t perNode = std::uint32_t(shader::kPegoraroSingularNodes);
@@ -204,7 +215,9 @@ GpuOutput GpuRenderer::render(const PreparedScene& scene, bool useDouble, int wi
         list = upload(items);
         gpu::Buffer nodeRadiance(ctx, items.size() * sizeof(glm::vec4));
         gpu::Buffer nodeOverflows(ctx, items.size() * sizeof(std::uint32_t));
+        times.mark("compile");
         pass(k, items.size(), 2, 0.95, 1.0, nodeRadiance, nodeOverflows);
+        times.mark("singular nodes");
         const std::vector<glm::vec4> values = nodeRadiance.download<glm::vec4>(items.size());
         const std::vector<std::uint32_t> nodeOverflowCounts = nodeOverflows.download<std::uint32_t>(items.size());
         for (std::size_t i = 0; i < singular.size(); ++i) {

@@ -6,6 +6,7 @@
 
 #include "tyndall/framework/kernel_cache.h"
 #include "tyndall/framework/primary_hits.h"
+#include "tyndall/framework/stage_times.h"
 #include "tyndall/framework/technique.h"
 #include "tyndall/gpu/context.h"
 #include "tyndall/gpu/resources.h"
@@ -35,7 +36,7 @@ public:
 
     // Throws Cancelled, GpuError, ShaderError, and InputError for double precision on a device without it.
     GpuOutput render(const PreparedScene& scene, bool useDouble, int width, int height,
-                     const RenderCallbacks& callbacks);
+                     const RenderCallbacks& callbacks, StageTimes& times);
 
     gpu::Context& context() { return *context_; }
 

@@ -7,6 +7,7 @@
 #include "tyndall/core/text.h"
 #include "tyndall/framework/renderer_pool.h"
 #include "tyndall/framework/row_loop.h"
+#include "tyndall/framework/stage_times.h"
 
 #include <atomic>
 #include <chrono>
@@ -159,10 +160,12 @@ void PegoraroTechnique::check(const RenderRequest& request) const {
 RenderResult PegoraroTechnique::render(const RenderRequest& request, const RenderCallbacks& callbacks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
+    StageTimes times;
     requireSupported(request.scene);
 
     const Settings settings = pegoraro::settingsFrom(request.params);
     const PreparedScene scene = pegoraro::prepareScene(request.scene, settings, request.projectDir);
+    times.mark("prepare");
     const int width = request.scene.camera.width, height = request.scene.camera.height;
 
     std::vector<glm::vec4> radiance;
@@ -177,7 +180,7 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
         if (settings.precision == Precision::Auto)
             useDouble = scene.maxTerms - 1 > pegoraro::kAutoFloatMaxOrder && renderer->context().device().shaderFloat64;
         pegoraro::checkClosedFormRange(scene, settings, useDouble);
-        pegoraro::GpuOutput g = renderer->render(scene, useDouble, width, height, callbacks);
+        pegoraro::GpuOutput g = renderer->render(scene, useDouble, width, height, callbacks, times);
         radiance = std::move(g.radiance);
         overflows = std::move(g.overflows);
         deviceName = g.deviceName;
@@ -192,6 +195,7 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
         CpuResult c = renderCpu(scene, useDouble, width, height, request.threads, callbacks);
         radiance = std::move(c.radiance);
         overflows = std::move(c.overflows);
+        times.mark("passes");
     }
 
     RenderResult result;
@@ -218,8 +222,10 @@ RenderResult PegoraroTechnique::render(const RenderRequest& request, const Rende
 
     result.spp = 1;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    times.mark("resolve");
     stampMetadata(result, request);
     auto& meta = result.image.metadata;
+    times.writeTo(meta);
     meta["device"] = deviceName;
     meta["pegoraro:precision"] = useDouble ? "double" : "float";
     meta["pegoraro:fallbackPixels"] = std::to_string(fallbackPixels);
