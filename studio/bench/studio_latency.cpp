@@ -12,6 +12,7 @@
 //   with each, the gaps' 99th percentile and how many exceeded 20 ms (the longest is one event in a minute: it says
 //   little of how the rest went).
 #include "main_window.h"
+#include "parameter_panel.h"
 
 #include <QApplication>
 #include <QDir>
@@ -30,6 +31,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <thread>
 
@@ -182,13 +184,29 @@ double percentile(std::vector<double> x, double p) {
     return x[std::min(x.size() - 1, std::size_t(p * double(x.size())))];
 }
 
+// The newest edit of a drag that `image` shows: its job's exposure (metadata "exposure") as the step of the drag
+// that set it, or -1 (an image from before the drag, or none).
+int editShown(const std::shared_ptr<const Image>& image, double base, double step) {
+    if (!image) return -1;
+    const auto it = image->metadata.find("exposure");
+    if (it == image->metadata.end()) return -1;
+    const long k = std::lround((std::stod(it->second) - base) / step) - 1;
+    return k >= 0 ? int(k) : -1;
+}
+
 // --all [--json FILE]: every view of every bundled project (default, examples/, ltsd/, isv/), at the project's own
-// size with references at 4 spp: kEdits edits of the view's exposure (every technique renders again for it), each
-// after the project settled; from the edit to the first frame on screen that shows the view's new image (reduced or
-// not) and to its full-resolution image. The JSON is a list of {"project", "view", "technique", "firstImageMs":
-// {"median", "p95"}, "fullResolutionMs": {"median", "p95"}} and one {"stallMs": {"longest", "p99"}} over every edit.
+// size with references at 4 spp. Per view, after the project settled, the view's exposure in the parameter panel is
+// stepped every 16 ms for 3 s, the signals a dragged slider sends (every technique renders again for it: the images
+// carry it), each step a new value. An edit's latency is the time from its step to the first frame presented that
+// shows an image of it or of a later step (a reduced image counts: it is labelled as one); an edit still unshown 10 s
+// after the drag counts as that long. Then kFullEdits single edits, each from the settled view to its full-resolution
+// image. The JSON is a list of {"project", "view", "technique", "firstImageMs": {"median", "p95"},
+// "fullResolutionMs": {"median", "p95"}} and one {"stallMs": {"longest", "p99"}}: the GUI thread's longest gap
+// between the ticks of a 1 ms timer over every drag and edit, and the largest of their 99th percentiles.
 int measureAll(QVulkanInstance& vulkan, const QString& root, const std::string& jsonPath) {
-    constexpr int kEdits = 6;
+    constexpr int kSteps = 180;  // 3 s at one step per 16 ms
+    constexpr int kFullEdits = 3;
+    constexpr double kStep = 0.01;  // EV per step: the spin box's resolution
     QStringList projects = {root + "/projects/default.json"};
     for (const char* folder : {"/projects/examples", "/projects/ltsd", "/projects/isv"})
         for (const QString& name : QDir(root + folder).entryList({"*.json"}, QDir::Files, QDir::Name))
@@ -205,41 +223,82 @@ int measureAll(QVulkanInstance& vulkan, const QString& root, const std::string& 
         }
         waitSettled(window);
         Studio& studio = window.studio();
+        auto* panel = window.findChild<ParameterPanel*>();
+        if (!panel) {
+            std::fprintf(stderr, "no parameter panel\n");
+            return 1;
+        }
         for (int view = 0; view < int(studio.session().project().views.size()); ++view) {
             const View v = studio.session().project().views[std::size_t(view)];
-            std::vector<double> first, full;
-            for (int k = 0; k < kEdits; ++k) {
-                const auto before = studio.frames()[std::size_t(view)].image;
-                QElapsedTimer t;
-                t.start();
-                double firstMs = 0.0;
-                longestStall = std::max(
-                    longestStall, longestStallMs([&] {
-                        studio.session().setExposure(view, v.exposure + (k % 2 == 0 ? 0.25 : 0.0));
-                        while (shownImage(studio.frames()[std::size_t(view)]) == before && t.elapsed() < 600000)
-                            QTest::qWait(1);
-                        const int presented = window.viewport()->framesPresented();
-                        while (window.viewport()->framesPresented() == presented && t.elapsed() < 600000)
-                            QTest::qWait(1);
-                        firstMs = double(t.nsecsElapsed()) * 1e-6;
-                        while (studio.frames()[std::size_t(view)].image == before && t.elapsed() < 600000)
-                            QTest::qWait(1);
-                        full.push_back(double(t.nsecsElapsed()) * 1e-6);
-                        waitSettled(window, 5000);  // a progressive view refines for long: the next edit replaces it
-                    }));
-                p99Stall = std::max(p99Stall, lastStalls.p99Ms);
-                first.push_back(firstMs);
+            panel->showView(view);
+            QTest::qWait(50);  // the panel's rebuild
+            auto* spin = panel->findChild<QDoubleSpinBox*>("exposure");
+            if (!spin) {
+                std::fprintf(stderr, "no exposure box for view %s\n", v.name.c_str());
+                return 1;
             }
+            // The drag's values: base + kStep * (k + 1), on the spin box's grid, none the view's own.
+            const double base = std::round((v.exposure - 1.0) / kStep) * kStep;
+            std::vector<double> stepAt(kSteps, 0.0), latency(kSteps, -1.0);
+            QElapsedTimer t;
+            t.start();
+            int presented = window.viewport()->framesPresented(), resolved = 0;
+            auto poll = [&] {
+                QTest::qWait(1);
+                if (window.viewport()->framesPresented() == presented) return;
+                presented = window.viewport()->framesPresented();
+                const int shown =
+                    std::min(editShown(shownImage(studio.frames()[std::size_t(view)]), base, kStep), kSteps - 1);
+                const double now = double(t.nsecsElapsed()) * 1e-6;
+                for (; resolved <= shown; ++resolved)
+                    if (stepAt[std::size_t(resolved)] > 0.0 || resolved == 0)
+                        latency[std::size_t(resolved)] = now - stepAt[std::size_t(resolved)];
+            };
+            longestStall = std::max(longestStall, longestStallMs([&] {
+                                        for (int k = 0; k < kSteps; ++k) {
+                                            stepAt[std::size_t(k)] = double(t.nsecsElapsed()) * 1e-6;
+                                            spin->setValue(base + kStep * (k + 1));
+                                            while (double(t.nsecsElapsed()) * 1e-6 < stepAt[std::size_t(k)] + 16.0)
+                                                poll();
+                                        }
+                                        const double end = double(t.nsecsElapsed()) * 1e-6;
+                                        while (resolved < kSteps && double(t.nsecsElapsed()) * 1e-6 < end + 10000.0)
+                                            poll();
+                                    }));
+            p99Stall = std::max(p99Stall, lastStalls.p99Ms);
+            for (int k = 0; k < kSteps; ++k)
+                if (latency[std::size_t(k)] < 0.0)
+                    latency[std::size_t(k)] = double(t.nsecsElapsed()) * 1e-6 - stepAt[std::size_t(k)];
+            waitSettled(window, 5000);  // a progressive view refines for long: the next edit replaces it
+            std::vector<double> full;
+            for (int k = 0; k < kFullEdits; ++k) {
+                const auto before = studio.frames()[std::size_t(view)].image;
+                QElapsedTimer e;
+                e.start();
+                longestStall =
+                    std::max(longestStall, longestStallMs([&] {
+                                 spin->setValue(base + 2.0 + 0.25 * k);
+                                 while (studio.frames()[std::size_t(view)].image == before && e.elapsed() < 600000)
+                                     QTest::qWait(1);
+                                 full.push_back(double(e.nsecsElapsed()) * 1e-6);
+                                 waitSettled(window, 5000);
+                             }));
+                p99Stall = std::max(p99Stall, lastStalls.p99Ms);
+            }
+            spin->setValue(v.exposure);
+            waitSettled(window, 5000);
             const QString name = QDir(root).relativeFilePath(project);
             nlohmann::json entry = {
                 {"project", name.toStdString()},
                 {"view", v.name},
                 {"technique", v.technique},
-                {"firstImageMs", {{"median", percentile(first, 0.5)}, {"p95", percentile(first, 0.95)}}},
+                {"firstImageMs", {{"median", percentile(latency, 0.5)}, {"p95", percentile(latency, 0.95)}}},
                 {"fullResolutionMs", {{"median", percentile(full, 0.5)}, {"p95", percentile(full, 0.95)}}}};
-            std::printf("%-36s %-16s %-10s first image %6.0f ms (p95 %6.0f), full resolution %6.0f ms (p95 %6.0f)\n",
-                        name.toUtf8().constData(), v.name.c_str(), v.technique.c_str(), percentile(first, 0.5),
-                        percentile(first, 0.95), percentile(full, 0.5), percentile(full, 0.95));
+            std::printf(
+                "%-36s %-18s %-10s drag: first image %6.0f ms (p95 %6.0f); full resolution %6.0f ms (p95 "
+                "%6.0f)\n",
+                name.toUtf8().constData(), v.name.c_str(), v.technique.c_str(), percentile(latency, 0.5),
+                percentile(latency, 0.95), percentile(full, 0.5), percentile(full, 0.95));
             std::fflush(stdout);
             results.push_back(std::move(entry));
         }
@@ -282,9 +341,10 @@ int main(int argc, char** argv) {
     // then stop.
     const std::string option = argc > 1 ? argv[1] : "", only = argc > 2 ? argv[2] : "";
     const bool stallsOnly = option == "--stalls";
-    if (!stallsOnly) std::printf("medians of 6 edits each at 512 x 512, progressive resolution on and off in turn\n");
+    if (!stallsOnly && option != "--all")
+        std::printf("medians of 6 edits each at 512 x 512, progressive resolution on and off in turn\n");
     for (const Edit& e : edits) {
-        if (stallsOnly) break;
+        if (stallsOnly || option == "--all") break;
         if (option == "--edit" && only != e.view) continue;
         MainWindow window(&vulkan, k512);
         window.studio().setRecovery(Studio::Recovery::Never);

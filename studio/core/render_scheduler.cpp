@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <optional>
 
 namespace tyndall::studio {
 
@@ -341,6 +342,9 @@ void RenderScheduler::renderStage(int view, int factor) {
     (reference ? referencePending_ : pending_)[std::size_t(view)] = true;
     emit started(view, reference, task.job->request.spp);
     if (!reference) {
+        // The full resolution after a reduced image on screen only refines it: in the refinement class, so that
+        // another view's first image (an edit there) goes first instead of waiting for it (RenderService).
+        task.shown = factor == 1 && progressiveResolution_ && schedules_[std::size_t(view)].shown();
         trace("view %d: job made (1/%d)", view, task.factor);
         submitted_[std::size_t(view)].start();
         service_->submit(std::move(task));
@@ -418,10 +422,18 @@ void RenderScheduler::flushDirty() {
         const std::size_t v = std::size_t(*it);
         if (pending_[v]) {
             const qint64 ran = submitted_[v].isValid() ? submitted_[v].elapsed() : 0;
-            const bool slow = lastSeconds_[v] * 1e3 >= double(kSupersedeMs) || ran >= kSupersedeMs;
+            // A reduced stage in flight is judged by its own predicted cost (about the schedule's budget), not by the
+            // view's last full-resolution render: replacing it at every step of a drag over a view whose full image
+            // takes seconds would never let an image through (measured: 1.5 s median from a step to the screen).
+            const int stage = progressiveResolution_ ? schedules_[v].current() : 1;
+            const std::optional<double> stageSeconds =
+                stage > 1 ? schedules_[v].predicted(stage) : std::optional<double>(lastSeconds_[v]);
+            const bool slow = stageSeconds.value_or(0.0) * 1e3 >= double(kSupersedeMs) || ran >= kSupersedeMs;
             // A progressive render that has shown its first image only refines (and may be waiting in the queue
-            // behind another view's first image): the new state's first image comes first.
-            const bool refining = shownGeneration_[v] == generation_[v];
+            // behind another view's first image), as does a finer stage of an edit whose reduced image is on screen:
+            // the new state's first image comes first.
+            const bool refining =
+                shownGeneration_[v] == generation_[v] || (progressiveResolution_ && schedules_[v].shown());
             if (!slow && !refining) {
                 recheck = recheck < 0 ? kSupersedeMs - ran : std::min(recheck, kSupersedeMs - ran);
                 ++it;

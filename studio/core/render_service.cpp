@@ -199,9 +199,10 @@ void RenderService::run(Worker& worker) {
             lastPost = Clock::now();
             RenderOutput partial = out;
             auto copy = std::make_shared<Image>(image);
-            // Progressive images carry the job's metadata too (the view, partHash, what it leaves out), as the final one
-            // does.
+            // Progressive images carry the job's metadata too (the view, partHash, what it leaves out, its exposure),
+            // as the final one does.
             for (const auto& [key, value] : task->job->metadata) copy->metadata.emplace(key, value);
+            copy->metadata["exposure"] = std::to_string(task->job->exposure);
             partial.image = std::move(copy);
             partial.spp = spp;
             partial.seconds = std::chrono::duration<double>(Clock::now() - started).count();

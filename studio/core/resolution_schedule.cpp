@@ -46,6 +46,7 @@ std::optional<double> ResolutionSchedule::predicted(int factor) const {
 int ResolutionSchedule::begin() {
     started_ = clock_();
     spent_ = 0.0;
+    shown_ = false;
     current_ = 1;
     const std::optional<double> fullTime = predicted(1);
     if (!fullTime || *fullTime <= budget_) return current_;
@@ -68,6 +69,7 @@ int ResolutionSchedule::delivered(int factor, double renderSeconds) {
     const double now = clock_(), seconds = renderSeconds >= 0.0 ? renderSeconds : now - started_;
     measured_[std::size_t(indexOf(factor))] = seconds;
     started_ = now;
+    shown_ = true;
     if (factor == 1) {
         current_ = 0;
         return 0;

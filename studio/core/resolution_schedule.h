@@ -34,6 +34,9 @@ public:
     // instead of the time since the stage began.
     int delivered(int factor, double renderSeconds = -1.0);
     int current() const { return current_; }  // the stage rendering now (0: none)
+    // A stage of the current sequence has delivered its image: what renders now only refines what is on screen (a
+    // newer edit need not wait for it).
+    bool shown() const { return shown_; }
 
     // The predicted seconds to the first image at `factor` (nullopt before any measurement).
     std::optional<double> predicted(int factor) const;
@@ -48,6 +51,7 @@ private:
     int current_ = 0;
     double started_ = 0.0;  // when the current stage started
     double spent_ = 0.0;    // seconds of the current sequence's reduced stages
+    bool shown_ = false;    // a stage of the current sequence delivered
 };
 
 }  // namespace tyndall::studio

@@ -147,6 +147,26 @@ private slots:
         QCOMPARE(schedule.delivered(16), 8);
     }
 
+    // What the scheduler asks during a drag (RenderScheduler::flushDirty): until a stage of the edit has delivered, a
+    // newer edit waits for the reduced stage in flight, whose predicted cost is about the budget; once one has, what
+    // renders only refines the image on screen and a newer edit replaces it at once.
+    void resolutionScheduleSaysWhenAnEditsImageIsOnScreen() {
+        double now = 0.0;
+        ResolutionSchedule schedule([&now] { return now; });
+        edit(schedule, now, 0.001, 8.0);
+        edit(schedule, now, 0.001, 8.0);
+        QVERIFY(schedule.shown());  // the finished sequence's image
+        const int first = schedule.begin();
+        QCOMPARE(first, 16);
+        QVERIFY(!schedule.shown());
+        QVERIFY(*schedule.predicted(schedule.current()) <= schedule.budget());
+        now += 0.03;
+        QCOMPARE(schedule.delivered(first), 8);
+        QVERIFY(schedule.shown());  // 1/8 only refines
+        QCOMPARE(schedule.begin(), 16);
+        QVERIFY(!schedule.shown());
+    }
+
     void initTestCase() {
         // The reference cache and autosaves of these tests stay apart from the user's.
         QStandardPaths::setTestModeEnabled(true);
