@@ -211,9 +211,12 @@ int measureAll(QVulkanInstance& vulkan, const QString& root, const std::string& 
     for (const char* folder : {"/projects/examples", "/projects/ltsd", "/projects/isv"})
         for (const QString& name : QDir(root + folder).entryList({"*.json"}, QDir::Files, QDir::Name))
             projects << root + folder + "/" + name;
+    // TYNDALL_LATENCY_PROJECTS: only the projects whose path contains it (a quicker run while looking into one).
+    const QString only = qEnvironmentVariable("TYNDALL_LATENCY_PROJECTS");
     nlohmann::json results = nlohmann::json::array();
     double longestStall = 0.0, p99Stall = 0.0;
     for (const QString& project : projects) {
+        if (!only.isEmpty() && !project.contains(only)) continue;
         MainWindow window(&vulkan, {"reference.spp=4"});
         window.studio().setRecovery(Studio::Recovery::Never);
         window.show();

@@ -422,12 +422,13 @@ void RenderScheduler::flushDirty() {
         const std::size_t v = std::size_t(*it);
         if (pending_[v]) {
             const qint64 ran = submitted_[v].isValid() ? submitted_[v].elapsed() : 0;
-            // A reduced stage in flight is judged by its own predicted cost (about the schedule's budget), not by the
-            // view's last full-resolution render: replacing it at every step of a drag over a view whose full image
-            // takes seconds would never let an image through (measured: 1.5 s median from a step to the screen).
-            const int stage = progressiveResolution_ ? schedules_[v].current() : 1;
-            const std::optional<double> stageSeconds =
-                stage > 1 ? schedules_[v].predicted(stage) : std::optional<double>(lastSeconds_[v]);
+            // A stage in flight is judged by the predicted time to its first image (a reduced one's is about the
+            // schedule's budget), not by the view's last finished render: replacing it at every step of a drag over a
+            // view whose finished image takes seconds (LTSD with shadows, the path tracer's 64 spp) would never let an
+            // image through (measured: 1.5 s median from a step to the screen).
+            const int stage = progressiveResolution_ ? schedules_[v].current() : 0;
+            std::optional<double> stageSeconds = stage > 0 ? schedules_[v].predicted(stage) : std::nullopt;
+            if (!stageSeconds) stageSeconds = lastSeconds_[v];
             const bool slow = stageSeconds.value_or(0.0) * 1e3 >= double(kSupersedeMs) || ran >= kSupersedeMs;
             // A progressive render that has shown its first image only refines (and may be waiting in the queue
             // behind another view's first image), as does a finer stage of an edit whose reduced image is on screen:
