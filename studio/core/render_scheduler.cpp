@@ -342,9 +342,10 @@ void RenderScheduler::renderStage(int view, int factor) {
     (reference ? referencePending_ : pending_)[std::size_t(view)] = true;
     emit started(view, reference, task.job->request.spp);
     if (!reference) {
-        // The full resolution after a reduced image on screen only refines it: in the refinement class, so that
-        // another view's first image (an edit there) goes first instead of waiting for it (RenderService).
-        task.shown = factor == 1 && progressiveResolution_ && schedules_[std::size_t(view)].shown();
+        // The full resolution after a reduced image on screen is no longer a first image: in the class of slow
+        // renders, so that another view's first image (an edit there) goes first instead of waiting for it, while
+        // it still goes before other views' refinements (a progressive view's accumulation) (RenderService).
+        if (factor == 1 && progressiveResolution_ && schedules_[std::size_t(view)].shown()) task.slow = true;
         trace("view %d: job made (1/%d)", view, task.factor);
         submitted_[std::size_t(view)].start();
         service_->submit(std::move(task));

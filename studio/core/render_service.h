@@ -39,10 +39,10 @@ void lowerCurrentThreadPriority(int nice);
 struct RenderTask {
     int view = 0;
     bool reference = false;
-    bool slow = false;       // a technique view that renders progressively for long (its class above)
-    // Its view's first image went out (interrupted while refining, or the full resolution after a reduced image): the
-    // refinement class.
-    bool shown = false;
+    // A technique view that renders progressively for long, or a full resolution after a reduced image (its class
+    // above).
+    bool slow = false;
+    bool shown = false;      // its first image went out: it was interrupted while refining (the refinement class)
     int factor = 1;          // a reduced stage of the view's progressive resolution: 1/factor of it in each axis
     bool gpu = false;        // it renders on a hardware GPU: the GPU worker may take it
     quint64 generation = 0;  // increases with every edit; outputs of older generations are stale
