@@ -1,6 +1,7 @@
 // Renders views and references off the GUI thread, in four classes: the first image of fast technique views (the
-// analytic and GPU techniques, ~0.1-1 s), then the first image of slow ones (progressive: the path tracer as a view,
-// which may render for minutes), then the refinement of views that have shown their first image, then references;
+// analytic and GPU techniques, ~0.1-1 s, and the reduced stages of every view), then the first image of slow ones
+// (progressive: the path tracer as a view, which may render for minutes) and the full resolution of a view whose
+// reduced image is on screen, then the refinement of views that have shown their first image, then references;
 // newest first within a class. A new task for a view (or its reference) replaces the queued one and cancels the
 // running one, so stale results are dropped rather than shown. A task of an earlier class interrupts a running one of
 // a later class on the worker it needs (a first image a refinement or a reference, and so on), which goes back to the
