@@ -254,8 +254,7 @@ int measureAll(QVulkanInstance& vulkan, const QString& root, const std::string& 
                     std::min(editShown(shownImage(studio.frames()[std::size_t(view)]), base, kStep), kSteps - 1);
                 const double now = double(t.nsecsElapsed()) * 1e-6;
                 for (; resolved <= shown; ++resolved)
-                    if (stepAt[std::size_t(resolved)] > 0.0 || resolved == 0)
-                        latency[std::size_t(resolved)] = now - stepAt[std::size_t(resolved)];
+                    latency[std::size_t(resolved)] = now - stepAt[std::size_t(resolved)];
             };
             longestStall = std::max(longestStall, longestStallMs([&] {
                                         for (int k = 0; k < kSteps; ++k) {

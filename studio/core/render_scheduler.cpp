@@ -16,7 +16,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <optional>
 
 namespace tyndall::studio {
 
@@ -428,9 +427,9 @@ void RenderScheduler::flushDirty() {
             // view whose finished image takes seconds (LTSD with shadows, the path tracer's 64 spp) would never let an
             // image through (measured: 1.5 s median from a step to the screen).
             const int stage = progressiveResolution_ ? schedules_[v].current() : 0;
-            std::optional<double> stageSeconds = stage > 0 ? schedules_[v].predicted(stage) : std::nullopt;
-            if (!stageSeconds) stageSeconds = lastSeconds_[v];
-            const bool slow = stageSeconds.value_or(0.0) * 1e3 >= double(kSupersedeMs) || ran >= kSupersedeMs;
+            const double stageSeconds =
+                stage > 0 ? schedules_[v].predicted(stage).value_or(lastSeconds_[v]) : lastSeconds_[v];
+            const bool slow = stageSeconds * 1e3 >= double(kSupersedeMs) || ran >= kSupersedeMs;
             // A progressive render that has shown its first image only refines (and may be waiting in the queue
             // behind another view's first image), as does a finer stage of an edit whose reduced image is on screen:
             // the new state's first image comes first.

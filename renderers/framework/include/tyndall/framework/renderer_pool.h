@@ -1,7 +1,7 @@
 // GPU renderers kept for the whole process (issue 31). The studio and the CLI make a technique object per render job,
 // but what its GPU renderer builds is the same from one edit to the next: kernels compiled by glslang and the driver,
 // graphics pipelines, output buffers whose pages were touched once (gpu::keptBuffer). Rebuilt for every render they
-// cost an LTSD frame of 512 x 512 on lavapipe 174 ms against 41 ms with them kept (docs/testing.md, "Where a frame
+// cost an LTSD frame of 512 x 512 on lavapipe 174 ms against 44.5 ms with them kept (docs/testing.md, "Where a frame
 // goes"). A render leases a renderer of its type for its duration; renders on several threads at once each get their
 // own, and every renderer goes back to the pool when its lease ends.
 #pragma once

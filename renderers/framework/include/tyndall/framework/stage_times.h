@@ -1,6 +1,6 @@
 // Where a render's wall time goes (issue 31, deliverable 3): a technique marks the end of each stage of its frame
 // (scene preparation, uploads, the raster pass, the kernels, the readback, the resolve) and writes the stages into the
-// image's metadata as "time:<stage>" in milliseconds, so that benches and `tyndall info` profile a frame without a
+// image's metadata as "time:<stage>" in milliseconds (EXR headers carry it), so that benches profile a frame without a
 // profiler. On lavapipe a profiler sees the kernels only as anonymous JIT code, and the timestamps of compute slices
 // read far too low once a kernel has run in the process (docs/ltsd.md), so the wall clock is the measure.
 #pragma once
