@@ -259,11 +259,14 @@ int runLocal(const std::string& dir, const SweepPlan& plan, const std::vector<co
         if (!ok) {
             // A task killed before it could say so leaves no marker of its own.
             if (!fs::exists(marker(dir, task, "failed")) && !fs::exists(marker(dir, task, "done"))) {
-                const std::string why = WIFSIGNALED(status) ? "killed by signal " + std::to_string(WTERMSIG(status))
-                                                            : "exit " + std::to_string(WEXITSTATUS(status));
+                const bool signalled = WIFSIGNALED(status);
+                const std::string why = signalled ? "killed by signal " + std::to_string(WTERMSIG(status))
+                                                  : "exit " + std::to_string(WEXITSTATUS(status));
+                // SIGINT or SIGTERM that arrived before the task installed its handlers still cancel it.
+                const bool cancelSignal = signalled && (WTERMSIG(status) == SIGINT || WTERMSIG(status) == SIGTERM);
                 writeFileAtomically(marker(dir, task, "failed").string(),
                                     json{{"exitCode", WIFEXITED(status) ? WEXITSTATUS(status) : -1},
-                                         {"cancelled", gSweepInterrupted.load()},
+                                         {"cancelled", gSweepInterrupted.load() || cancelSignal},
                                          {"why", why},
                                          {"host", hostName()},
                                          {"log", logOf(dir, task).string()},
