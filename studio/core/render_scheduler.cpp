@@ -48,8 +48,10 @@ std::string partKeyOf(const nlohmann::json& j, const Project& project, const Vie
     return key.dump();
 }
 
+// What a view's own render depends on besides its part: its parameters. Not its exposure: images are linear radiance,
+// and the exposure applies where they are shown, compared (PSNR) and exported.
 std::string viewKeyOf(const View& view) {
-    return view.parameters.dump() + "/" + std::to_string(view.exposure);
+    return view.parameters.dump();
 }
 
 // The state of a view's part of the scene, from its part key: images of one state are comparable.
@@ -73,11 +75,11 @@ ResolutionSchedule newSchedule() {
     });
 }
 
+}  // namespace
+
 QString stateName(quint64 state) {
     return QString("%1").arg(state, 16, 16, QLatin1Char('0'));
 }
-
-}  // namespace
 
 RenderScheduler::RenderScheduler(Session& session, Background& background, QObject* parent)
     : QObject(parent), session_(session), background_(background) {
@@ -88,6 +90,16 @@ RenderScheduler::RenderScheduler(Session& session, Background& background, QObje
     // References restart once the edits of their part pause (a drag would otherwise restart them at every step).
     connect(&debounce_, &QTimer::timeout, this, [this] {
         if (playing_) return;  // setPlaying(false) starts them
+        // The views off screen, then the references.
+        for (auto it = dirtyViews_.begin(); it != dirtyViews_.end();) {
+            const int view = *it;
+            if (onScreen_[std::size_t(view)]) {
+                ++it;
+                continue;
+            }
+            it = dirtyViews_.erase(it);
+            render(view, false);
+        }
         for (int view : dirtyParts_)
             render(view, true);
         dirtyParts_.clear();
@@ -101,9 +113,25 @@ void RenderScheduler::setPlaying(bool playing) {
         // The references of parts already changed are out of date: their cores go to the views.
         for (int view : dirtyParts_)
             holdReference(view);
-    } else if (!dirtyParts_.empty()) {
+    } else if (!dirtyParts_.empty() || !dirtyViews_.empty()) {
         debounce_.start();
     }
+}
+
+void RenderScheduler::setOnScreen(const std::vector<bool>& onScreen) {
+    if (onScreen.size() != onScreen_.size() || onScreen == onScreen_) return;
+    std::vector<int> came;
+    for (std::size_t v = 0; v < onScreen.size(); ++v)
+        if (onScreen[v] && !onScreen_[v]) came.push_back(int(v));
+    onScreen_ = onScreen;
+    // A view that comes on screen while its render made off screen (at full resolution, behind the others) is in
+    // flight starts again from its first reduced stage; one whose edit waits for the debounce renders now.
+    for (int view : came) {
+        const std::size_t v = std::size_t(view);
+        if (!dirtyViews_.count(view) && pending_[v] && renderedHidden_[v] && shownState_[v] != states_[v])
+            render(view, false);
+    }
+    if (!came.empty()) flushDirty();
 }
 
 void RenderScheduler::holdReference(int view) {
@@ -154,6 +182,8 @@ void RenderScheduler::reset() {
     pending_.assign(n, false);
     referencePending_.assign(n, false);
     progressive_.assign(n, false);
+    onScreen_.assign(n, true);
+    renderedHidden_.assign(n, false);
     shownState_.assign(n, 0);
     shownGeneration_.assign(n, 0);
     submitted_.assign(n, QElapsedTimer());
@@ -212,6 +242,8 @@ std::vector<int> RenderScheduler::followViews() {
     follow(pending_, false);
     follow(referencePending_, false);
     follow(progressive_, false);
+    follow(onScreen_, true);
+    follow(renderedHidden_, false);
     follow(shownState_, quint64(0));
     follow(shownGeneration_, quint64(0));
     follow(submitted_, QElapsedTimer());
@@ -262,7 +294,9 @@ void RenderScheduler::cancelAll() { service_->cancelAll(); }
 
 void RenderScheduler::viewEdited(int view) {
     if (view < 0 || view >= int(viewKeys_.size())) return;
-    viewKeys_[std::size_t(view)] = viewKeyOf(session_.project().views[std::size_t(view)]);
+    std::string key = viewKeyOf(session_.project().views[std::size_t(view)]);
+    if (key == viewKeys_[std::size_t(view)]) return;  // its exposure: only the display changes
+    viewKeys_[std::size_t(view)] = std::move(key);
     dirtyViews_.insert(view);
     flushDirty();
 }
@@ -299,6 +333,7 @@ bool RenderScheduler::makeTask(int view, bool reference, int factor, RenderTask&
     // The path tracer as a view, or any technique that sent progressive images, may render for minutes (a reduced
     // stage is short).
     task.slow = !reference && factor == 1 && (progressive_[std::size_t(view)] || v.technique == "reference");
+    task.hidden = !reference && !onScreen_[std::size_t(view)];
     task.generation = nextGeneration_++;
     task.state = states_[std::size_t(view)];
     try {
@@ -328,7 +363,9 @@ bool RenderScheduler::makeTask(int view, bool reference, int factor, RenderTask&
 void RenderScheduler::render(int view, bool reference) {
     // A view's new state starts its progressive resolution again (resolution_schedule.h).
     if (reference) return renderStage(view, 0);
-    renderStage(view, progressiveResolution_ ? schedules_[std::size_t(view)].begin() : 1);
+    // A view off screen goes straight to its full resolution: nobody would see its reduced images.
+    const bool staged = progressiveResolution_ && onScreen_[std::size_t(view)];
+    renderStage(view, staged ? schedules_[std::size_t(view)].begin() : 1);
 }
 
 void RenderScheduler::renderStage(int view, int factor) {
@@ -345,7 +382,8 @@ void RenderScheduler::renderStage(int view, int factor) {
         // renders, so that another view's first image (an edit there) goes first instead of waiting for it, while
         // it still goes before other views' refinements (a progressive view's accumulation) (RenderService).
         if (factor == 1 && progressiveResolution_ && schedules_[std::size_t(view)].shown()) task.slow = true;
-        trace("view %d: job made (1/%d)", view, task.factor);
+        renderedHidden_[std::size_t(view)] = task.hidden;
+        trace("view %d: job made (1/%d%s)", view, task.factor, task.hidden ? ", off screen" : "");
         submitted_[std::size_t(view)].start();
         service_->submit(std::move(task));
         return;
@@ -418,8 +456,15 @@ void RenderScheduler::flushDirty() {
         }
     }
     qint64 recheck = -1;  // when the oldest render let finish reaches kSupersedeMs
+    bool offScreenWait = false;
     for (auto it = dirtyViews_.begin(); it != dirtyViews_.end();) {
         const std::size_t v = std::size_t(*it);
+        // Off screen: once the edits pause (not while the animation plays: it waits for every view).
+        if (!onScreen_[v] && !animating_ && !playing_) {
+            offScreenWait = true;
+            ++it;
+            continue;
+        }
         if (pending_[v]) {
             const qint64 ran = submitted_[v].isValid() ? submitted_[v].elapsed() : 0;
             // A stage in flight is judged by the predicted time to its first image (a reduced one's is about the
@@ -446,6 +491,7 @@ void RenderScheduler::flushDirty() {
         render(view, false);  // replaces the render in flight, if any
     }
     if (recheck >= 0) QTimer::singleShot(int(std::max<qint64>(recheck, 1)), this, [this] { flushDirty(); });
+    if (offScreenWait) debounce_.start();
 }
 
 bool RenderScheduler::settled() const {

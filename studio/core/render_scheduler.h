@@ -1,15 +1,15 @@
 // What renders when: the studio's render orchestration between the session's project and the comparison model.
 //
 // Each view's render depends on its part of the scene (the camera, the surfaces, its lights and media, the reference
-// settings): the part key, hashed into the part's state. A view's own edit (parameters, exposure) re-renders the view
-// alone, at once when it is not rendering and otherwise when its render in flight is done, so that a drag shows a new
-// image at the rate the technique renders and the last state always renders; a render in flight that would hold the
-// new state back for long (it has run kSupersedeMs, or the view's last render took longer), or that has shown its
-// first image and only refines, is cancelled instead. An
-// edit of a part re-renders the views of that part and, once the edits pause (a debounce), their references. Finished
-// references are cached on disk by the hash of what they render, so that reopening a project does not start from zero.
-// Every task carries a generation; outputs of older generations are dropped here, and what passes goes out through
-// `output` in order.
+// settings): the part key, hashed into the part's state. A view's own edit of its parameters re-renders the view
+// alone (its exposure is the display's: the compositor, the metrics and the exports apply it, nothing renders), at once
+// when it is not rendering and otherwise when its render in flight is done, so that a drag shows a new image at the
+// rate the technique renders and the last state always renders; a render in flight that would hold the new state back
+// for long (it has run kSupersedeMs, or the view's last render took longer), or that has shown its first image and only
+// refines, is cancelled instead. An edit of a part re-renders the views of that part and, once the edits pause (a
+// debounce), their references. Finished references are cached on disk by the hash of what they render, so that
+// reopening a project does not start from zero. Every task carries a generation; outputs of older generations are
+// dropped here, and what passes goes out through `output` in order.
 #pragma once
 
 #include "background.h"
@@ -27,6 +27,9 @@
 #include <vector>
 
 namespace tyndall::studio {
+
+// A part's state as its images carry it (the metadata "partHash"): 16 hexadecimal digits.
+QString stateName(quint64 state);
 
 class RenderScheduler : public QObject {
     Q_OBJECT
@@ -46,7 +49,7 @@ public:
     // comparison model to keep its images.
     std::vector<int> followViews();
     void renderView(int view);  // the view and its reference
-    // An edit of view `view`'s parameters or exposure.
+    // An edit of view `view`'s parameters or exposure (which renders nothing).
     void viewEdited(int view);
     // An edit of the scene: the views whose part changed (stateChanged) render again, and their references once the
     // edits pause; views whose parameters changed (a whole project replaced: recovery, or its undo) render alone.
@@ -63,6 +66,11 @@ public:
     // bench compares both).
     void setProgressiveResolution(bool on) { progressiveResolution_ = on; }
     bool playing() const { return playing_; }
+    // Which views are on screen (the layout's; every one by default). A view off screen is not dragged at: after an
+    // edit it renders once the edits pause (the references' debounce), at full resolution, after every view on
+    // screen has shown its first image (RenderService's refinement class); a view that comes on screen with its
+    // state still unshown starts its progressive resolution at once.
+    void setOnScreen(const std::vector<bool>& onScreen);
     // Every view shows (or is done with) the current state: the animation may advance.
     bool viewsCaughtUp() const;
     // Nothing is queued, running or waiting for its debounce.
@@ -100,7 +108,7 @@ private:
     RenderService* service_ = nullptr;
     std::string viewsKey_;                 // the views' names and techniques when restart() ran
     std::vector<std::string> partKeys_;    // per view
-    std::vector<std::string> viewKeys_;    // each view's parameters and exposure
+    std::vector<std::string> viewKeys_;    // each view's parameters
     std::vector<quint64> states_;
     // Each view's id: what its tasks carry as RenderTask::view, so that a render in flight follows its view when
     // views are added or removed before it (followViews).
@@ -111,6 +119,8 @@ private:
     std::vector<bool> pending_;            // a technique render of the view is queued or running
     std::vector<bool> referencePending_;   // so is a reference render
     std::vector<bool> progressive_;        // the view's technique sent a progressive image (it may render for long)
+    std::vector<bool> onScreen_;           // setOnScreen()
+    std::vector<bool> renderedHidden_;     // the view's render in flight was made while it was off screen
     std::vector<quint64> shownState_;      // the state of the view's latest image
     std::vector<quint64> shownGeneration_;  // the render that sent it (the one in flight: it only refines now)
     std::vector<QElapsedTimer> submitted_;  // when the view's render in flight was submitted

@@ -100,7 +100,7 @@ void RenderService::submit(RenderTask task) {
 }
 
 int RenderService::classOf(const RenderTask& task) {
-    return task.reference ? 3 : task.shown ? 2 : task.slow ? 1 : 0;
+    return task.reference ? 3 : (task.shown || task.hidden) ? 2 : task.slow ? 1 : 0;
 }
 
 bool RenderService::firstImageWaits(const Worker& worker) const {

@@ -1,14 +1,14 @@
 // Renders views and references off the GUI thread, in four classes: the first image of fast technique views (the
 // analytic and GPU techniques, ~0.1-1 s, and the reduced stages of every view), then the first image of slow ones
 // (progressive: the path tracer as a view, which may render for minutes) and the full resolution of a view whose
-// reduced image is on screen, then the refinement of views that have shown their first image, then references;
-// newest first within a class. A new task for a view (or its reference) replaces the queued one and cancels the
-// running one, so stale results are dropped rather than shown. A task of an earlier class interrupts a running one of
-// a later class on the worker it needs (a first image a refinement or a reference, and so on), which goes back to the
-// queue and starts again afterwards: the cores serve the edit first, and every affected view shows its first image
-// before any view refines (issue 31: a WVDS view waited 16 s behind the path tracer's 64 spp). A progressive render
-// that posts its first image while another view's first image waits steps aside at once. Outputs (progressive images
-// and the final one) arrive on the GUI thread through `output`.
+// reduced image is on screen, then the refinement of views that have shown their first image and the renders of
+// views off screen, then references; newest first within a class. A new task for a view (or its reference) replaces
+// the queued one and cancels the running one, so stale results are dropped rather than shown. A task of an earlier
+// class interrupts a running one of a later class on the worker it needs (a first image a refinement or a reference,
+// and so on), which goes back to the queue and starts again afterwards: the cores serve the edit first, and every
+// affected view shows its first image before any view refines (issue 31: a WVDS view waited 16 s behind the path
+// tracer's 64 spp). A progressive render that posts its first image while another view's first image waits steps
+// aside at once. Outputs (progressive images and the final one) arrive on the GUI thread through `output`.
 //
 // Workers: one for everything, and, when the machine has a hardware GPU (gpu::hardwareDeviceAvailable), a second that
 // runs only the tasks that render on it (RenderTask::gpu), concurrently with the CPU's: a GPU view's edit then neither
@@ -44,6 +44,7 @@ struct RenderTask {
     // above).
     bool slow = false;
     bool shown = false;      // its first image went out: it was interrupted while refining (the refinement class)
+    bool hidden = false;     // its view is off screen: in the refinement class too
     int factor = 1;          // a reduced stage of the view's progressive resolution: 1/factor of it in each axis
     bool gpu = false;        // it renders on a hardware GPU: the GPU worker may take it
     quint64 generation = 0;  // increases with every edit; outputs of older generations are stale

@@ -524,6 +524,15 @@ QSize Studio::viewportSize() const {
 }
 
 void Studio::recompose() {
+    // The views the layout shows: every one in the grid; the current one alone (and the view chosen as every view's
+    // comparand), which the others' renders then wait for (RenderScheduler::setOnScreen).
+    std::vector<bool> onScreen(std::size_t(model_->size()), state_.layout == Layout::Grid);
+    if (state_.layout != Layout::Grid && !onScreen.empty()) {
+        onScreen[std::size_t(std::clamp(state_.current, 0, model_->size() - 1))] = true;
+        if (const int comparand = model_->referenceView(); comparand >= 0 && comparand < model_->size())
+            onScreen[std::size_t(comparand)] = true;
+    }
+    scheduler_->setOnScreen(onScreen);
     emit displayChanged();
     // Once per pass of the event loop, however many changes it brought. Right after an edit, the frame that would only
     // mark the view as rendering waits up to kEditQuietMs: if the new image comes first (the analytic techniques take

@@ -402,10 +402,22 @@ private slots:
         const QImage composed = studio.composedFrame();
         QCOMPARE(composed.size(), QSize(400, 300));
 
-        // An edit of view 1 (its exposure) renders it again; the other views keep their images.
+        // An edit of view 1's exposure renders nothing: the tile shows the same image brighter, and PSNR follows.
         const std::shared_ptr<const Image> other = frames[0].image, edited = frames[1].image;
-        studio.session().setExposure(1, frames[1].exposure + 1.0);
+        const double psnrBefore = frames[1].metrics->psnr, exposureBefore = frames[1].exposure;
+        QSignalSpy started(&studio.scheduler(), &RenderScheduler::started);
+        studio.session().setExposure(1, exposureBefore + 1.0);
+        QVERIFY(studio.scheduler().settled());
+        QVERIFY(waitFor([&] { return studio.frames()[1].metrics && studio.frames()[1].metrics->psnr != psnrBefore; }));
+        QTest::qWait(300);
+        QCOMPARE(started.count(), 0);
+        QCOMPARE(studio.frames()[1].image, edited);
+        QCOMPARE(studio.frames()[1].exposure, exposureBefore + 1.0);
+        QVERIFY(studio.composedFrame() != composed);
+        // An edit of its parameters renders it again; the other views keep their images.
+        studio.session().setParameter(1, "shadows", false);
         QVERIFY(waitFor([&] { return studio.settled() && studio.frames()[1].image != edited; }));
+        QVERIFY(started.count() > 0);
         QCOMPARE(studio.frames()[0].image, other);
         QVERIFY(studio.title().contains("[*]"));
 
@@ -499,6 +511,59 @@ private slots:
         QCOMPARE(finals, std::vector<int>{2});
         QCOMPARE(studio.frames()[view].spp, 2);
         QVERIFY(waitFor([&] { return studio.settled(); }));
+    }
+
+    // A view shown alone is the one dragged at: during a drag of the scene (the fog's g, which every view renders) the
+    // views off screen render nothing; once the edits pause they render at full resolution, and every view ends on
+    // the last state. A view that comes on screen before then renders at once.
+    void viewsOffScreenWaitForTheEditsToPause() {
+        Studio studio(kSmall);
+        studio.setRecovery(Studio::Recovery::Never);
+        QString error;
+        QVERIFY2(studio.openProject(kDefaultProject, &error), qPrintable(error));
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+        studio.showViewAlone(1);
+        std::vector<std::pair<int, qint64>> starts;  // technique renders: view, when
+        QElapsedTimer clock;
+        clock.start();
+        connect(&studio.scheduler(), &RenderScheduler::started, this, [&](int view, bool reference, int) {
+            if (!reference) starts.push_back({view, clock.elapsed()});
+        });
+        std::vector<int> factors;  // of the images of views off screen
+        connect(&studio.scheduler(), &RenderScheduler::output, this, [&](const RenderOutput& out) {
+            if (out.view != 1 && !out.reference && out.image) factors.push_back(out.factor);
+        });
+        for (int step = 0; step < 8; ++step) {
+            QVERIFY(studio.session().editScene({"media[fog].phase.g=" + std::to_string(0.3 + 0.02 * step)}, "g", &error,
+                                               79));
+            QTest::qWait(60);
+        }
+        const qint64 dragEnd = clock.elapsed();
+        QVERIFY(!starts.empty());
+        for (const auto& [view, at] : starts)
+            QVERIFY2(view == 1, qPrintable(QString("view %1 started %2 ms into the drag").arg(view).arg(at)));
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+        for (int view : {0, 2, 3})
+            QVERIFY(std::any_of(starts.begin(), starts.end(),
+                                [&](const auto& s) { return s.first == view && s.second >= dragEnd; }));
+        QVERIFY(!factors.empty());
+        QVERIFY(std::all_of(factors.begin(), factors.end(), [](int f) { return f == 1; }));
+        for (const ViewFrame& f : studio.frames())
+            QVERIFY2(f.image && f.imageState == f.state, qPrintable(f.name));
+
+        // An edit, and view 2 selected before the pause: it renders at once.
+        starts.clear();
+        clock.restart();
+        QVERIFY(studio.session().editScene({"media[fog].phase.g=0.5"}, "g", &error));
+        QTest::qWait(20);
+        studio.selectView(2);
+        QVERIFY(waitFor(
+            [&] { return std::any_of(starts.begin(), starts.end(), [](const auto& s) { return s.first == 2; }); }));
+        const auto two = std::find_if(starts.begin(), starts.end(), [](const auto& s) { return s.first == 2; });
+        QVERIFY2(two->second < 250, qPrintable(QString("%1 ms").arg(two->second)));  // the debounce is 300 ms
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+        for (const ViewFrame& f : studio.frames())
+            QVERIFY2(f.image && f.imageState == f.state, qPrintable(f.name));
     }
 
     // Views authored through the studio: a duplicate is selected; an image view cannot be duplicated, is renamed and
