@@ -24,6 +24,7 @@
 #include <QSlider>
 #include <QStandardPaths>
 #include <QTest>
+#include <QUndoStack>
 #include <QVulkanInstance>
 
 #include <nlohmann/json.hpp>
@@ -33,6 +34,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <map>
 #include <thread>
 
 #include <unistd.h>
@@ -184,29 +186,30 @@ double percentile(std::vector<double> x, double p) {
     return x[std::min(x.size() - 1, std::size_t(p * double(x.size())))];
 }
 
-// The newest edit of a drag that `image` shows: its job's exposure (metadata "exposure") as the step of the drag
-// that set it, or -1 (an image from before the drag, or none).
-int editShown(const std::shared_ptr<const Image>& image, double base, double step) {
+// The newest step of a drag that `image` shows: the step whose part state it carries (metadata "partHash"), or -1 (an
+// image from before the drag, or none).
+int stepShown(const std::shared_ptr<const Image>& image, const std::map<std::string, int>& stepOfState) {
     if (!image) return -1;
-    const auto it = image->metadata.find("exposure");
+    const auto it = image->metadata.find("partHash");
     if (it == image->metadata.end()) return -1;
-    const long k = std::lround((std::stod(it->second) - base) / step) - 1;
-    return k >= 0 ? int(k) : -1;
+    const auto step = stepOfState.find(it->second);
+    return step == stepOfState.end() ? -1 : step->second;
 }
 
 // --all [--json FILE]: every view of every bundled project (default, examples/, ltsd/, isv/), at the project's own
-// size with references at 4 spp. Per view, after the project settled, the view's exposure in the parameter panel is
-// stepped every 16 ms for 3 s, the signals a dragged slider sends (every technique renders again for it: the images
-// carry it), each step a new value. An edit's latency is the time from its step to the first frame presented that
-// shows an image of it or of a later step (a reduced image counts: it is labelled as one); an edit still unshown 10 s
-// after the drag counts as that long. Then kFullEdits single edits, each from the settled view to its full-resolution
-// image. The JSON is a list of {"project", "view", "technique", "firstImageMs": {"median", "p95"},
-// "fullResolutionMs": {"median", "p95"}} and one {"stallMs": {"longest", "p99"}}: the GUI thread's longest gap
-// between the ticks of a 1 ms timer over every drag and edit, and the largest of their 99th percentiles.
+// size with references at 4 spp. Per view, after the project settled, the view is shown alone (the others, off
+// screen, wait for the drag to pause: RenderScheduler::setOnScreen) and the camera orbits by 0.1 degree every 16 ms
+// for 3 s, the steps of a drag in the viewport, each a new state of the scene. An edit's latency is the time from its
+// step to the first frame presented that shows an image of it or of a later step (a reduced image counts: it is
+// labelled as one); an edit still unshown 10 s after the drag counts as that long. Then kFullEdits single steps, each
+// from the settled view to its full-resolution image; then the camera goes back (undo). The JSON is a list of
+// {"project", "view", "technique", "firstImageMs": {"median", "p95"}, "fullResolutionMs": {"median", "p95"}} and one
+// {"stallMs": {"longest", "p99"}}: the GUI thread's longest gap between the ticks of a 1 ms timer over every drag and
+// edit, and the largest of their 99th percentiles.
 int measureAll(QVulkanInstance& vulkan, const QString& root, const std::string& jsonPath) {
     constexpr int kSteps = 180;  // 3 s at one step per 16 ms
     constexpr int kFullEdits = 3;
-    constexpr double kStep = 0.01;  // EV per step: the spin box's resolution
+    const double kYaw = 0.1 * 3.14159265358979 / 180.0;  // per step: 18 degrees over the drag, always one way
     QStringList projects = {root + "/projects/default.json"};
     for (const char* folder : {"/projects/examples", "/projects/ltsd", "/projects/isv"})
         for (const QString& name : QDir(root + folder).entryList({"*.json"}, QDir::Files, QDir::Name))
@@ -226,22 +229,14 @@ int measureAll(QVulkanInstance& vulkan, const QString& root, const std::string& 
         }
         waitSettled(window);
         Studio& studio = window.studio();
-        auto* panel = window.findChild<ParameterPanel*>();
-        if (!panel) {
-            std::fprintf(stderr, "no parameter panel\n");
-            return 1;
-        }
+        QUndoStack& undo = *studio.session().undoStack();
         for (int view = 0; view < int(studio.session().project().views.size()); ++view) {
             const View v = studio.session().project().views[std::size_t(view)];
-            panel->showView(view);
-            QTest::qWait(50);  // the panel's rebuild
-            auto* spin = panel->findChild<QDoubleSpinBox*>("exposure");
-            if (!spin) {
-                std::fprintf(stderr, "no exposure box for view %s\n", v.name.c_str());
-                return 1;
-            }
-            // The drag's values: base + kStep * (k + 1), on the spin box's grid, none the view's own.
-            const double base = std::round((v.exposure - 1.0) / kStep) * kStep;
+            studio.showViewAlone(view);
+            waitSettled(window);
+            const int undoIndex = undo.index();
+            std::map<std::string, int> stepOfState;
+            std::vector<double> orbitMs;
             std::vector<double> stepAt(kSteps, 0.0), latency(kSteps, -1.0);
             QElapsedTimer t;
             t.start();
@@ -250,8 +245,7 @@ int measureAll(QVulkanInstance& vulkan, const QString& root, const std::string& 
                 QTest::qWait(1);
                 if (window.viewport()->framesPresented() == presented) return;
                 presented = window.viewport()->framesPresented();
-                const int shown =
-                    std::min(editShown(shownImage(studio.frames()[std::size_t(view)]), base, kStep), kSteps - 1);
+                const int shown = stepShown(shownImage(studio.frames()[std::size_t(view)]), stepOfState);
                 const double now = double(t.nsecsElapsed()) * 1e-6;
                 for (; resolved <= shown; ++resolved)
                     latency[std::size_t(resolved)] = now - stepAt[std::size_t(resolved)];
@@ -259,7 +253,11 @@ int measureAll(QVulkanInstance& vulkan, const QString& root, const std::string& 
             longestStall = std::max(longestStall, longestStallMs([&] {
                                         for (int k = 0; k < kSteps; ++k) {
                                             stepAt[std::size_t(k)] = double(t.nsecsElapsed()) * 1e-6;
-                                            spin->setValue(base + kStep * (k + 1));
+                                            QElapsedTimer o;
+                                            o.start();
+                                            studio.orbitCamera(kYaw, 0.0);
+                                            orbitMs.push_back(double(o.nsecsElapsed()) * 1e-6);
+                                            stepOfState[stateName(studio.scheduler().state(view)).toStdString()] = k;
                                             while (double(t.nsecsElapsed()) * 1e-6 < stepAt[std::size_t(k)] + 16.0)
                                                 poll();
                                         }
@@ -268,27 +266,32 @@ int measureAll(QVulkanInstance& vulkan, const QString& root, const std::string& 
                                             poll();
                                     }));
             p99Stall = std::max(p99Stall, lastStalls.p99Ms);
+            std::printf("orbit step on the GUI thread: median %.2f ms, p95 %.2f ms, max %.2f\n",
+                        percentile(orbitMs, 0.5), percentile(orbitMs, 0.95), percentile(orbitMs, 1.0));
             for (int k = 0; k < kSteps; ++k)
                 if (latency[std::size_t(k)] < 0.0)
                     latency[std::size_t(k)] = double(t.nsecsElapsed()) * 1e-6 - stepAt[std::size_t(k)];
             waitSettled(window, 5000);  // a progressive view refines for long: the next edit replaces it
             std::vector<double> full;
             for (int k = 0; k < kFullEdits; ++k) {
-                const auto before = studio.frames()[std::size_t(view)].image;
                 QElapsedTimer e;
                 e.start();
-                longestStall =
-                    std::max(longestStall, longestStallMs([&] {
-                                 spin->setValue(base + 2.0 + 0.25 * k);
-                                 while (studio.frames()[std::size_t(view)].image == before && e.elapsed() < 600000)
-                                     QTest::qWait(1);
-                                 full.push_back(double(e.nsecsElapsed()) * 1e-6);
-                                 waitSettled(window, 5000);
-                             }));
+                longestStall = std::max(longestStall, longestStallMs([&] {
+                                            studio.orbitCamera(4.0 * kYaw, 0.0);
+                                            const quint64 state = studio.scheduler().state(view);
+                                            auto done = [&] {
+                                                const ViewFrame& f = studio.frames()[std::size_t(view)];
+                                                return f.image && f.imageState == state;
+                                            };
+                                            while (!done() && e.elapsed() < 600000)
+                                                QTest::qWait(1);
+                                            full.push_back(double(e.nsecsElapsed()) * 1e-6);
+                                            waitSettled(window, 5000);
+                                        }));
                 p99Stall = std::max(p99Stall, lastStalls.p99Ms);
             }
-            spin->setValue(v.exposure);
-            waitSettled(window, 5000);
+            undo.setIndex(undoIndex);  // the camera as it was, for the next view
+            waitSettled(window);
             const QString name = QDir(root).relativeFilePath(project);
             nlohmann::json entry = {
                 {"project", name.toStdString()},
