@@ -176,7 +176,13 @@ QString labelOf(const ViewFrame& f, bool reference, bool compact = false) {
         }
     } else {
         if (f.rendering) line += " (rendering)";
-        if (f.preview && shownImage(f) == f.preview) line += QString(" (1/%1 resolution)").arg(f.previewFactor);
+        if (f.preview && shownImage(f) == f.preview) {
+            const auto reduced = f.preview->metadata.find("reducedWork");
+            line += QString(" (1/%1 resolution%2)")
+                        .arg(f.previewFactor)
+                        .arg(reduced == f.preview->metadata.end() ? QString()
+                                                                  : ", " + QString::fromStdString(reduced->second));
+        }
         if (!compact) line += "  -  " + f.technique;
         if (f.image && !f.file && shownImage(f) == f.image) {
             details = QString("  %1 ms").arg(f.seconds * 1e3, 0, 'f', 0);

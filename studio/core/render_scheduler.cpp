@@ -347,6 +347,9 @@ bool RenderScheduler::makeTask(int view, bool reference, int factor, RenderTask&
             camera.width = std::max(1, (camera.width + factor - 1) / factor);
             camera.height = std::max(1, (camera.height + factor - 1) / factor);
             task.job->metadata["resolutionFactor"] = std::to_string(factor);
+            // And less of the work that does not shrink with the image, where the technique says so (its label).
+            const std::string reduced = task.job->technique->reduceForPreview(task.job->request.params, factor);
+            if (!reduced.empty()) task.job->metadata["reducedWork"] = reduced;
         }
         // A technique view that renders on a hardware GPU may run beside the CPU's renders (RenderService).
         if (!reference && task.job->request.params.find("device")) {

@@ -21,6 +21,8 @@ public:
     std::string name() const override { return "isv"; }
     std::string displayName() const override { return "ISV particles"; }
     std::vector<ParamInfo> parameters() const override;
+    // Its shadow maps do not shrink with the image: a preview's are coarser (and it has no supersampling).
+    std::string reduceForPreview(ParamSet& params, int factor) const override;
 
     Support supports(const HomogeneousMedium& medium) const override;
     Support supports(const ParticleMedium& medium) const override;

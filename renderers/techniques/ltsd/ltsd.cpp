@@ -75,6 +75,25 @@ std::vector<ParamInfo> LtsdTechnique::parameters() const {
     return p;
 }
 
+std::string LtsdTechnique::reduceForPreview(ParamSet& params, int factor) const {
+    if (factor <= 1) return {};
+    // A pixel's cost is about its nodes (Eq. 15's sum) plus its ratio samples' shadow rays: at 1/16 of the image
+    // N = 500 would still take ~200 ms on two cores. Each by the factor, down to the defaults' order (8 nodes, 2
+    // samples), and one ray per pixel.
+    std::vector<std::string> what;
+    auto shrink = [&](const char* name, std::int64_t floor) {
+        const std::int64_t value = params.getInt(name), next = std::max(std::min(value, floor), value / factor);
+        if (next == value) return false;
+        params.set(name, next);
+        return true;
+    };
+    if (shrink("nodes", 8)) what.push_back("nodes");
+    if (params.getEnum("shadows") != "off" && shrink("ratioSamples", 2)) what.push_back("samples");
+    if (shrink("supersampling", 1) && what.empty()) what.push_back("samples");
+    if (what.empty()) return {};
+    return "fewer " + (what.size() == 2 ? what[0] + " and " + what[1] : what[0]);
+}
+
 std::string LtsdTechnique::labelFor(const ParamSet& params) const {
     // Without shadows it is the paper's noise-free unshadowed image; with them, the ratio estimators of Sec. 6.
     // The paper's S is named, so that it and the accurate one can be told apart side by side.

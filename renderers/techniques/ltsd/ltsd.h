@@ -21,6 +21,8 @@ public:
     std::string displayName() const override { return "LTSD"; }
     std::string labelFor(const ParamSet& params) const override;
     std::vector<ParamInfo> parameters() const override;
+    // Its cost per pixel is its nodes and ratio samples: a preview has fewer (and no supersampling).
+    std::string reduceForPreview(ParamSet& params, int factor) const override;
 
     Support supports(const HomogeneousMedium& medium) const override;
     Support supports(const ParticleMedium& medium) const override;

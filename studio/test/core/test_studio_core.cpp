@@ -310,6 +310,15 @@ private slots:
         const QImage darker = compose(frames, state, size);
         const int white = QColor(darker.pixel(rects[1].center())).value();
         QVERIFY2(white > 180 && white < 195, qPrintable(QString::number(white)));
+
+        // A reduced image is captioned with its factor, and with the work its technique reduced too.
+        frames[0].preview = flat(10, 8, 0.5f);
+        frames[0].previewFactor = 4;
+        QVERIFY(tileCaption(frames[0], false, 2000, QFont()).front().contains("(1/4 resolution)"));
+        auto lessWork = std::make_shared<Image>(*frames[0].preview);
+        lessWork->metadata["reducedWork"] = "coarser shadow maps";
+        frames[0].preview = lessWork;
+        QVERIFY(tileCaption(frames[0], false, 2000, QFont()).front().contains("(1/4 resolution, coarser shadow maps)"));
     }
 
     // The FLIP difference (D's fifth mode): identical images are magma's black, a step against a flat grey shows each

@@ -668,6 +668,40 @@ TEST(IsvTechnique, RefusesWhatItCannotRender) {
     }
 }
 
+// A reduced stage of the studio's progressive resolution (1/16 of the image in each axis) reduces the shadow maps in
+// proportion, down to their floors, and drops supersampling; a value already below a floor stays; full resolution
+// reduces nothing. The reduced image still resembles the full one (the same cloud, lit and shadowed).
+TEST(IsvTechnique, APreviewReducesTheShadowMapsWithinFloors) {
+    IsvTechnique t;
+    ParamSet params = t.defaultParams();
+    params.set("supersampling", std::int64_t(2));
+    EXPECT_EQ(t.reduceForPreview(params, 1), "");
+    EXPECT_EQ(params.getInt("shadowMapResolution"), 1024);
+    EXPECT_EQ(t.reduceForPreview(params, 16), "coarser shadow maps");
+    EXPECT_EQ(params.getInt("shadowMapResolution"), 64);
+    EXPECT_EQ(params.getInt("vsmResolution"), 16);
+    EXPECT_EQ(params.getInt("vsmSlices"), 4);
+    EXPECT_EQ(params.getInt("supersampling"), 1);
+    ParamSet half = t.defaultParams();
+    half.set("vsmResolution", std::int64_t(8));
+    EXPECT_EQ(t.reduceForPreview(half, 2), "coarser shadow maps");
+    EXPECT_EQ(half.getInt("shadowMapResolution"), 512);
+    EXPECT_EQ(half.getInt("vsmResolution"), 8);
+    EXPECT_EQ(half.getInt("vsmSlices"), 8);
+
+    RenderRequest request;
+    request.scene = cloudScene(60, true);
+    request.scene.camera.width = request.scene.camera.height = 32;
+    request.params = t.defaultParams();
+    const Image full = t.render(request, {}).image;
+    ASSERT_EQ(t.reduceForPreview(request.params, 4), "coarser shadow maps");
+    const Image reduced = t.render(request, {}).image;
+    const Metrics m = computeMetrics(reduced, full);
+    std::printf("a preview's coarser shadow maps: energy %+.2f %%, relMSE %.3g against the full maps\n", m.energyBias,
+                m.relMSE);
+    EXPECT_LT(std::abs(m.energyBias), 3.0) << "measured -0.83 %: coarser maps change the shadows' edges, not the image";
+}
+
 Image renderReference(const Scene& scene) {
     std::unique_ptr<Technique> reference = createTechnique("reference");
     RenderRequest request;

@@ -500,6 +500,37 @@ TEST(LtsdShadows, DenoisingTheRatioHelpsAtFewSamples) {
     EXPECT_LT(raw64, 0.2 * raw);
 }
 
+// A reduced stage of the studio's progressive resolution (1/factor in each axis) renders fewer nodes and ratio
+// samples, down to 8 and 2, and no supersampling; full resolution reduces nothing, and a view already at the floors
+// stays. The preview of the room (N = 64) stays close to the full render: equiangular nodes converge fast.
+TEST(LtsdTechnique, APreviewHasFewerNodesAndSamples) {
+    LtsdTechnique t;
+    ParamSet params = t.defaultParams();
+    params.set("nodes", std::int64_t(500));
+    params.set("supersampling", std::int64_t(2));
+    EXPECT_EQ(t.reduceForPreview(params, 1), "");
+    EXPECT_EQ(t.reduceForPreview(params, 16), "fewer nodes and samples");
+    EXPECT_EQ(params.getInt("nodes"), 31);
+    EXPECT_EQ(params.getInt("ratioSamples"), 2);
+    EXPECT_EQ(params.getInt("supersampling"), 1);
+    ParamSet floor = t.defaultParams();  // 8 nodes, 16 samples
+    EXPECT_EQ(t.reduceForPreview(floor, 4), "fewer samples");
+    EXPECT_EQ(floor.getInt("nodes"), 8);
+    EXPECT_EQ(floor.getInt("ratioSamples"), 4);
+    floor.set("shadows", std::string("off"));
+    EXPECT_EQ(t.reduceForPreview(floor, 4), "");
+
+    const Project room = loadRoom(
+        48, 36,
+        {"views[ltsd].parameters.device=cpu", "views[ltsd].parameters.nodes=64", "views[ltsd].parameters.shadows=off"});
+    RenderJob full = makeViewJob(room, kProject, "ltsd", {});
+    RenderJob reduced = makeViewJob(room, kProject, "ltsd", {});
+    ASSERT_EQ(reduced.technique->reduceForPreview(reduced.request.params, 8), "fewer nodes");
+    const Metrics m = computeMetrics(runJob(reduced).image, runJob(full).image);
+    std::printf("a preview's 8 nodes against 64: energy %+.3f %%, relMSE %.3g\n", m.energyBias, m.relMSE);
+    EXPECT_LT(std::abs(m.energyBias), 0.2);  // measured +0.04 %
+}
+
 // With fog: the shadowed LTSD image against the reference with the plate. Its bias is the unshadowed technique's
 // (LtsdTechnique.BiasAgainstTheReferenceIsBounded) plus the ratio's noise; without shadows the shaft and the floor's
 // shadow are missing. Bounds about 1.3 x the measured values.

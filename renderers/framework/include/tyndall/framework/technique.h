@@ -77,6 +77,15 @@ public:
     }
     virtual std::vector<ParamInfo> parameters() const = 0;
     ParamSet defaultParams() const { return ParamSet(parameters()); }
+    // A reduced stage of the studio's progressive resolution renders 1/factor of the image in each axis; a technique
+    // whose fixed cost does not shrink with the image may reduce that work too, in `params` (the view's): returns
+    // what it reduced, a short phrase for the image's label ("coarser shadow maps"), or empty. The default reduces
+    // nothing.
+    virtual std::string reduceForPreview(ParamSet& params, int factor) const {
+        (void)params;
+        (void)factor;
+        return {};
+    }
 
     // Per scene element: can this technique render it?
     virtual Support supports(const HomogeneousMedium& medium) const = 0;
