@@ -37,6 +37,14 @@ struct Exporter::Report {
 
 namespace {
 
+// An image as an EXR with the view's exposure now: the image may have been rendered before an edit of the exposure,
+// which renders nothing (RenderScheduler), and `tyndall compare` reads the exposure back as its default.
+void writeExrWithExposure(const Image& image, const std::string& path, double exposure) {
+    Image stamped = image;
+    stamped.metadata["exposure"] = std::to_string(exposure);
+    writeImage(stamped, path, exposure);
+}
+
 std::string describe(const Region& r) {
     return std::to_string(r.width) + "x" + std::to_string(r.height) + " at " + std::to_string(r.x) + "," +
            std::to_string(r.y);
@@ -120,13 +128,14 @@ Exporter::Plan Exporter::plan(const QString& target, const Input& input) {
         const ComparisonPair pair = againstView ? comparisonPair(f) : referencePair(f);
         const std::shared_ptr<const Image> image = pair.image ? pair.image : f.image;
         if (image) {
-            viewStep("the image", [image, stem, own] { writeImage(*image, stem + ".exr", own); });
+            viewStep("the image", [image, stem, own] { writeExrWithExposure(*image, stem + ".exr", own); });
             viewStep("the image's PNG",
                      [image, stem, exposure, transform] { writeImage(*image, stem + ".png", exposure, transform); });
         }
         const std::shared_ptr<const Image> against = pair.against;
         if (against) {
-            viewStep("the reference", [against, stem, own] { writeImage(*against, stem + "-reference.exr", own); });
+            viewStep("the reference",
+                     [against, stem, own] { writeExrWithExposure(*against, stem + "-reference.exr", own); });
             viewStep("the reference's PNG", [against, stem, exposure, transform] {
                 writeImage(*against, stem + "-reference.png", exposure, transform);
             });
