@@ -90,16 +90,21 @@ RenderScheduler::RenderScheduler(Session& session, Background& background, QObje
     // References restart once the edits of their part pause (a drag would otherwise restart them at every step).
     connect(&debounce_, &QTimer::timeout, this, [this] {
         if (playing_) return;  // setPlaying(false) starts them
-        // The views off screen, then the references.
+        // The views off screen once those on screen show a full image of their state (else a stage of theirs would
+        // interrupt one, and its work would be lost), then the references.
+        const bool onScreenWaits = !onScreenCaughtUp();
+        bool offScreenLeft = false;
         for (auto it = dirtyViews_.begin(); it != dirtyViews_.end();) {
             const int view = *it;
-            if (onScreen_[std::size_t(view)]) {
+            if (onScreen_[std::size_t(view)] || onScreenWaits) {
+                offScreenLeft |= !onScreen_[std::size_t(view)];
                 ++it;
                 continue;
             }
             it = dirtyViews_.erase(it);
             render(view, false);
         }
+        if (offScreenLeft) debounce_.start();
         for (int view : dirtyParts_)
             render(view, true);
         dirtyParts_.clear();
@@ -116,6 +121,14 @@ void RenderScheduler::setPlaying(bool playing) {
     } else if (!dirtyParts_.empty() || !dirtyViews_.empty()) {
         debounce_.start();
     }
+}
+
+bool RenderScheduler::onScreenCaughtUp() const {
+    for (std::size_t v = 0; v < onScreen_.size(); ++v) {
+        if (!onScreen_[v]) continue;
+        if (dirtyViews_.count(int(v)) || (pending_[v] && shownState_[v] != states_[v])) return false;
+    }
+    return true;
 }
 
 void RenderScheduler::setOnScreen(const std::vector<bool>& onScreen) {

@@ -67,9 +67,9 @@ public:
     void setProgressiveResolution(bool on) { progressiveResolution_ = on; }
     bool playing() const { return playing_; }
     // Which views are on screen (the layout's; every one by default). A view off screen is not dragged at: after an
-    // edit it renders once the edits pause (the references' debounce), at full resolution, after every view on
-    // screen has shown its first image (RenderService's refinement class); a view that comes on screen with its
-    // state still unshown starts its progressive resolution at once.
+    // edit it renders once the edits pause (the references' debounce) and every view on screen shows a full image of
+    // its state, at full resolution, in RenderService's refinement class; a view that comes on screen with its state
+    // still unshown starts its progressive resolution at once.
     void setOnScreen(const std::vector<bool>& onScreen);
     // Every view shows (or is done with) the current state: the animation may advance.
     bool viewsCaughtUp() const;
@@ -98,6 +98,8 @@ private:
     // The task of a render, its job made; false (with `failed` emitted) when the job cannot be made.
     bool makeTask(int view, bool reference, int factor, RenderTask& task);
     void holdReference(int view);  // cancels the view's reference render until the play pauses
+    // Every view on screen shows a full-resolution image of its state (a progressive one may go on refining).
+    bool onScreenCaughtUp() const;
     int indexOfId(int id) const;  // the view a task's id stands for now; -1 when it was removed
     void flushDirty();
     void onOutput(const RenderOutput& out);

@@ -523,8 +523,9 @@ private slots:
     }
 
     // A view shown alone is the one dragged at: during a drag of the scene (the fog's g, which every view renders) the
-    // views off screen render nothing; once the edits pause they render at full resolution, and every view ends on
-    // the last state. A view that comes on screen before then renders at once.
+    // views off screen render nothing; once the edits pause and the view on screen shows its full image they render
+    // at full resolution, and every view ends on the last state. A view that comes on screen before then renders at
+    // once.
     void viewsOffScreenWaitForTheEditsToPause() {
         Studio studio(kSmall);
         studio.setRecovery(Studio::Recovery::Never);
@@ -539,8 +540,12 @@ private slots:
             if (!reference) starts.push_back({view, clock.elapsed()});
         });
         std::vector<int> factors;  // of the images of views off screen
+        qint64 caughtUp = -1;      // when view 1 showed its first full image of the drag's last state
         connect(&studio.scheduler(), &RenderScheduler::output, this, [&](const RenderOutput& out) {
             if (out.view != 1 && !out.reference && out.image) factors.push_back(out.factor);
+            if (out.view == 1 && !out.reference && out.image && out.factor == 1 && caughtUp < 0 &&
+                out.state == studio.scheduler().state(1))
+                caughtUp = clock.elapsed();
         });
         for (int step = 0; step < 8; ++step) {
             QVERIFY(studio.session().editScene({"media[fog].phase.g=" + std::to_string(0.3 + 0.02 * step)}, "g", &error,
@@ -552,9 +557,15 @@ private slots:
         for (const auto& [view, at] : starts)
             QVERIFY2(view == 1, qPrintable(QString("view %1 started %2 ms into the drag").arg(view).arg(at)));
         QVERIFY(waitFor([&] { return studio.settled(); }));
+        // They started after the drag, and after view 1 showed its full image (none of its stages interrupted them).
+        QVERIFY(caughtUp >= 0);
         for (int view : {0, 2, 3})
             QVERIFY(std::any_of(starts.begin(), starts.end(),
                                 [&](const auto& s) { return s.first == view && s.second >= dragEnd; }));
+        for (const auto& [view, at] : starts)
+            if (view != 1)
+                QVERIFY2(at >= caughtUp,
+                         qPrintable(QString("view %1 at %2 ms, view 1 full at %3 ms").arg(view).arg(at).arg(caughtUp)));
         QVERIFY(!factors.empty());
         QVERIFY(std::all_of(factors.begin(), factors.end(), [](int f) { return f == 1; }));
         for (const ViewFrame& f : studio.frames())
@@ -638,6 +649,18 @@ private slots:
         const nlohmann::json& entry = metrics[std::size_t(odd)];
         QVERIFY2(entry.contains("notExported") && !entry.contains("relMSE"), entry.dump().c_str());
         QVERIFY(metrics[0].contains("relMSE") && !metrics[0].contains("notExported"));
+
+        // An exposure edit renders nothing, and the next export's EXRs carry the view's exposure as it is now.
+        studio.session().setExposure(0, 1.75);
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+        const QString again = parent.filePath("export-exposure");
+        QVERIFY2(studio.exportComparison(again, &error), qPrintable(error));
+        const std::string first = studio.frames()[0].name.toStdString();
+        for (const std::string suffix : {".exr", "-reference.exr"}) {
+            const Image exported = readImage((again + "/").toStdString() + first + suffix);
+            QCOMPARE(std::stod(exported.metadata.at("exposure")), 1.75);
+        }
+        QVERIFY(QDir(again).removeRecursively());
 
         // A target that is a file: refused before anything is written.
         QFile blocker(parent.filePath("a-file"));

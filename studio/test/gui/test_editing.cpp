@@ -14,7 +14,8 @@ private slots:
 
     // Turning off the light shaft's shadows re-renders that view only; undo brings the same image back.
     // Progressive resolution (issue 31): an LTSD view at 480 x 360 (a few hundred ms a frame here) answers a parameter
-    // drag first with a reduced image, labelled, shown scaled up in its tile, never compared; then the full one.
+    // drag first with a reduced image, labelled (with its fewer ratio samples), shown scaled up in its tile, never
+    // compared; then the full one.
     void aDragShowsAReducedImageFirstThenTheFullOne() {
         QFile source(kDefaultProject);
         QVERIFY(source.open(QIODevice::ReadOnly));
@@ -44,7 +45,7 @@ private slots:
                     QVERIFY(f.previewFactor > 1 && f.preview->width() == (480 + f.previewFactor - 1) / f.previewFactor);
                     labelled |= tileCaption(f, false, 2000, window_->font())
                                     .front()
-                                    .contains(QString("(1/%1 resolution)").arg(f.previewFactor));
+                                    .contains(QString("(1/%1 resolution, fewer samples)").arg(f.previewFactor));
                 }
                 for (const auto& p : previews)
                     comparedAPreview |= f.metricsImage == p || f.pairImage == p || f.image == p;
