@@ -78,17 +78,10 @@ std::string IsvTechnique::reduceForPreview(ParamSet& params, int factor) const {
     // The maps' texels in proportion to the image's pixels, down to a floor that still shows the shadows' shapes; the
     // volumetric map's slices (each a draw of every particle: the vertex work) by the factor, down to 4. On lavapipe
     // at 32 x 32 (smoke, 5000 particles): 199 -> 89 ms of GPU time.
-    bool reduced = false;
-    auto shrink = [&](const char* name, std::int64_t divisor, std::int64_t floor) {
-        const std::int64_t value = params.getInt(name), next = std::max(std::min(value, floor), value / divisor);
-        if (next == value) return;
-        params.set(name, next);
-        reduced = true;
-    };
-    shrink("shadowMapResolution", factor, 64);
-    shrink("vsmResolution", factor, 16);
-    shrink("vsmSlices", factor, 4);
-    shrink("supersampling", 8, 1);
+    bool reduced = shrinkForPreview(params, "shadowMapResolution", factor, 64);
+    reduced |= shrinkForPreview(params, "vsmResolution", factor, 16);
+    reduced |= shrinkForPreview(params, "vsmSlices", factor, 4);
+    reduced |= shrinkForPreview(params, "supersampling", 8, 1);
     return reduced ? "coarser shadow maps" : "";
 }
 

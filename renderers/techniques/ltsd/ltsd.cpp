@@ -81,15 +81,10 @@ std::string LtsdTechnique::reduceForPreview(ParamSet& params, int factor) const 
     // N = 500 would still take ~200 ms on two cores. Each by the factor, down to the defaults' order (8 nodes, 2
     // samples), and one ray per pixel.
     std::vector<std::string> what;
-    auto shrink = [&](const char* name, std::int64_t floor) {
-        const std::int64_t value = params.getInt(name), next = std::max(std::min(value, floor), value / factor);
-        if (next == value) return false;
-        params.set(name, next);
-        return true;
-    };
-    if (shrink("nodes", 8)) what.push_back("nodes");
-    if (params.getEnum("shadows") != "off" && shrink("ratioSamples", 2)) what.push_back("samples");
-    if (shrink("supersampling", 1) && what.empty()) what.push_back("samples");
+    if (shrinkForPreview(params, "nodes", factor, 8)) what.push_back("nodes");
+    if (params.getEnum("shadows") != "off" && shrinkForPreview(params, "ratioSamples", factor, 2))
+        what.push_back("samples");
+    if (shrinkForPreview(params, "supersampling", factor, 1) && what.empty()) what.push_back("samples");
     if (what.empty()) return {};
     return "fewer " + (what.size() == 2 ? what[0] + " and " + what[1] : what[0]);
 }

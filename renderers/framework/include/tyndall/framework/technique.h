@@ -7,7 +7,9 @@
 #include "tyndall/core/scene.h"
 #include "tyndall/image/image.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -62,6 +64,15 @@ struct ProbeResult {
     std::string title, xLabel, yLabel;
     std::vector<ProbeSeries> series;
 };
+
+// For Technique::reduceForPreview: divides the integer parameter `name` by `divisor`, not below `floor` (a value
+// already below it stays); true when it changed.
+inline bool shrinkForPreview(ParamSet& params, const std::string& name, std::int64_t divisor, std::int64_t floor) {
+    const std::int64_t value = params.getInt(name), next = std::max(std::min(value, floor), value / divisor);
+    if (next == value) return false;
+    params.set(name, next);
+    return true;
+}
 
 class Technique {
 public:
