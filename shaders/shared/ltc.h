@@ -185,9 +185,9 @@ TY_FUNC mat3 ltcMatrix(TY_IN(LtcEntry) e) {
 // The integral of the LTC of M over P (a polygon in the LTC's frame, normal +z), given M^-1: Eq. 8 of 000 (Eq. 8 of
 // 002), the clamped cosine's integral over M^-1 P. P is first clipped to the surface's upper hemisphere, where the
 // BRDF lives: the fit counts the LTC's mass below the horizon as error (docs/tables.md), so the run time drops it too.
-// Both clips are made edge by edge (ltsdClippedMoments).
+// Both clips are made edge by edge (ltsdClippedCosineIntegral).
 TY_FUNC float ltcPolygonIntegral(TY_IN(mat3) mInv, TY_IN(SphericalPolygon) p) {
-    return ltsdSourceFromMoments(ltsdClippedMoments(p, mInv, 1.0f), kLtsdSourceClampedCosine);
+    return ltsdClippedCosineIntegral(p, mInv);
 }
 
 // The LTC's density per sr in direction w (unit, LTC frame): the clamped cosine at M^-1 w / |M^-1 w| times the

@@ -21,6 +21,15 @@ TY_BEGIN
 // kLtsdMaxVertices - 1, so that a clipped polygon (one vertex more) fits too where a caller stores one.
 TY_CONST int kLtsdMaxVertices = 10;
 
+// Loops over a polygon's vertices stop at kLtsdLoopVertices: kLtsdMaxVertices, or fewer where the includer knows that
+// no polygon it builds has more (TY_LTSD_VERTICES; the LTSD kernel defines it as its lights' most vertices). Lavapipe
+// runs every unrolled iteration for every lane, taken or not, so a quad in a loop of ten pays for ten edges.
+#ifdef TY_LTSD_VERTICES
+TY_CONST int kLtsdLoopVertices = TY_LTSD_VERTICES;
+#else
+TY_CONST int kLtsdLoopVertices = kLtsdMaxVertices;
+#endif
+
 TY_CONST int kLtsdSourceClampedCosine = 0;         // D_o = max(z, 0) / pi
 TY_CONST int kLtsdSourceInverseClampedCosine = 1;  // D_o = (1 - z) / pi for z > 0, else 0
 
@@ -40,7 +49,7 @@ struct LtsdEntry {
 // ---------------------------------------------------------------------------------------------------------------------
 // Polygons
 
-// Loops over a polygon's vertices run over the constant kLtsdMaxVertices with the count as a condition, and read the
+// Loops over a polygon's vertices run over the constant kLtsdLoopVertices with the count as a condition, and read the
 // next vertex by a select of two constant indices: unrolled, every access has a constant index, so the polygon stays
 // in registers. A loop bounded by the count indexes it dynamically, which lavapipe serves from memory, lane by lane.
 TY_FUNC vec3 ltsdNextVertex(TY_IN(SphericalPolygon) p, int i) {
@@ -52,7 +61,7 @@ TY_FUNC vec3 ltsdNextVertex(TY_IN(SphericalPolygon) p, int i) {
 TY_FUNC float ltsdSignedSolidAngle(TY_IN(SphericalPolygon) p) {
     vec3 a = normalize(p.v[0]);
     float sum = 0.0f;
-    for (int i = 1; i + 1 < kLtsdMaxVertices; ++i) {
+    for (int i = 1; i + 1 < kLtsdLoopVertices; ++i) {
         if (i + 1 < p.count) {
             vec3 b = normalize(p.v[i]);
             vec3 c = normalize(p.v[i + 1]);
@@ -76,7 +85,7 @@ TY_FUNC float ltsdEdgeCosineTerm(TY_IN(vec3) a, TY_IN(vec3) b) {
 // polygon, with the sign of ltsdSignedSolidAngle.
 TY_FUNC float ltsdSignedCosineSum(TY_IN(SphericalPolygon) p) {
     float sum = 0.0f;
-    for (int i = 0; i < kLtsdMaxVertices; ++i) {
+    for (int i = 0; i < kLtsdLoopVertices; ++i) {
         if (i < p.count) sum += ltsdEdgeCosineTerm(normalize(p.v[i]), normalize(ltsdNextVertex(p, i)));
     }
     return sum * (0.5f * kInvPi);
@@ -130,8 +139,10 @@ TY_FUNC bool ltsdClipEdge(TY_INOUT(vec3) a, TY_INOUT(vec3) b, TY_INOUT(LtsdHoriz
 }
 
 // Adds the edge a -> b (both with z >= 0, any length > 0) to the signed solid angle (x, fan from +z) and the signed
-// cosine sum (y, without its 1 / (2 pi)).
-TY_FUNC vec2 ltsdEdgeMoments(TY_IN(vec3) a0, TY_IN(vec3) b0) {
+// cosine sum (y, without its 1 / (2 pi)). Without `solidAngle`, x stays 0 and the vertices need no normalising: the
+// cosine term's angle atan(|a x b|, a.b) and the edge normal's z are both independent of the vertices' lengths.
+TY_FUNC vec2 ltsdEdgeMoments(TY_IN(vec3) a0, TY_IN(vec3) b0, bool solidAngle) {
+    if (!solidAngle) return vec2(0.0f, ltsdEdgeCosineTerm(a0, b0));
     vec3 a = normalize(a0);
     vec3 b = normalize(b0);
     float omega = 2.0f * atan(cross(a, b).z, 1.0f + a.z + b.z + dot(a, b));
@@ -141,12 +152,13 @@ TY_FUNC vec2 ltsdEdgeMoments(TY_IN(vec3) a0, TY_IN(vec3) b0) {
 // The moments (x: the signed solid angle, y: the signed cosine sum without its 1 / (2 pi)) of mInv (side P)^+ clipped
 // again to z >= 0: P with z scaled by side (+1, or -1 to mirror its lower half up), clipped to the upper hemisphere,
 // mapped by mInv (det > 0, so orientation is kept), clipped once more. The result's sign is P's orientation (flipped
-// by the mirror).
-TY_FUNC vec2 ltsdClippedMoments(TY_IN(SphericalPolygon) p, TY_IN(mat3) mInv, float side) {
+// by the mirror). Without `solidAngle` only y is computed (x is 0): the callers pass a constant, which the shader
+// compilers fold, so the clamped cosine's integral pays for no solid angle (ltsdClippedCosineSum).
+TY_FUNC vec2 ltsdClippedMomentsOf(TY_IN(SphericalPolygon) p, TY_IN(mat3) mInv, float side, bool solidAngle) {
     vec2 moments = vec2(0.0f);
     LtsdHorizonCut first = ltsdNoCut();
     LtsdHorizonCut second = ltsdNoCut();
-    for (int i = 0; i < kLtsdMaxVertices; ++i) {
+    for (int i = 0; i < kLtsdLoopVertices; ++i) {
         if (i < p.count) {
             vec3 a = p.v[i];
             vec3 b = ltsdNextVertex(p, i);
@@ -155,17 +167,28 @@ TY_FUNC vec2 ltsdClippedMoments(TY_IN(SphericalPolygon) p, TY_IN(mat3) mInv, flo
             if (ltsdClipEdge(a, b, first)) {
                 a = mInv * a;
                 b = mInv * b;
-                if (ltsdClipEdge(a, b, second)) moments += ltsdEdgeMoments(a, b);
+                if (ltsdClipEdge(a, b, second)) moments += ltsdEdgeMoments(a, b, solidAngle);
             }
         }
     }
     if (first.exits && first.enters) {
         vec3 a = mInv * first.exitPoint;
         vec3 b = mInv * first.entryPoint;
-        if (ltsdClipEdge(a, b, second)) moments += ltsdEdgeMoments(a, b);
+        if (ltsdClipEdge(a, b, second)) moments += ltsdEdgeMoments(a, b, solidAngle);
     }
-    if (second.exits && second.enters) moments += ltsdEdgeMoments(second.exitPoint, second.entryPoint);
+    if (second.exits && second.enters) moments += ltsdEdgeMoments(second.exitPoint, second.entryPoint, solidAngle);
     return moments;
+}
+
+TY_FUNC vec2 ltsdClippedMoments(TY_IN(SphericalPolygon) p, TY_IN(mat3) mInv, float side) {
+    return ltsdClippedMomentsOf(p, mInv, side, true);
+}
+
+// The clamped cosine's integral over mInv (P clipped to z >= 0), clipped again: |cosine sum| / (2 pi). The cosine is
+// non-negative over the clipped polygon, so the signed sum's magnitude is the integral whatever P's orientation, and
+// the solid angle that orients the inverse clamped cosine is not needed (half the transcendental work of an edge).
+TY_FUNC float ltsdClippedCosineIntegral(TY_IN(SphericalPolygon) p, TY_IN(mat3) mInv) {
+    return abs(ltsdClippedMomentsOf(p, mInv, 1.0f, false).y) * (0.5f * kInvPi);
 }
 
 // A source's integral over the clipped polygon from its moments: the clamped cosine's is E = |cosine sum| / (2 pi),
@@ -185,7 +208,7 @@ TY_FUNC float ltsdSolidAngle(TY_IN(SphericalPolygon) p) {
 // E(P): the integral of the clamped cosine max(z, 0) / pi over P, in [0, 1] (the normalised cosine irradiance of Eq. 8
 // of 000): the edge integral over the part of P above the horizon.
 TY_FUNC float ltsdClampedCosineIntegral(TY_IN(SphericalPolygon) p) {
-    return ltsdSourceFromMoments(ltsdClippedMoments(p, mat3(1.0f), 1.0f), kLtsdSourceClampedCosine);
+    return ltsdClippedCosineIntegral(p, mat3(1.0f));
 }
 
 // The integral over P of the inverse clamped cosine on the upper hemisphere, (1 - z) / pi for z > 0 (normalised: it

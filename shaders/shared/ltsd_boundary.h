@@ -121,7 +121,7 @@ TY_FUNC float ltsdLobeIntegral(TY_IN(SphericalPolygon) p, int lobe, float g) {
     float ga = abs(g);
     vec2 width = ltsdLobeWidth(lobe, ga);
     float boundary = 0.0f;
-    for (int i = 0; i < kLtsdMaxVertices; ++i) {
+    for (int i = 0; i < kLtsdLoopVertices; ++i) {
         if (i < p.count)
             boundary += ltsdBoundaryEdge(normalize(p.v[i]), normalize(ltsdNextVertex(p, i)), ez, lobe, ga, width);
     }

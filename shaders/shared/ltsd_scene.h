@@ -37,6 +37,13 @@ TY_BEGIN
 TY_CONST int kLtsdMaxLights = 8;
 TY_CONST int kLtsdMaxPlanes = 16;
 TY_CONST int kLtsdLightMaxVertices = 8;  // a horizon clip adds one: within kLtsdMaxVertices
+// Loops over a light's vertices stop here: the lights' most vertices where the kernel is compiled for its scene
+// (TY_LTSD_VERTICES, at most kLtsdLightMaxVertices; see kLtsdLoopVertices in ltsd.h).
+#ifdef TY_LTSD_VERTICES
+TY_CONST int kLtsdLightLoopVertices = TY_LTSD_VERTICES;
+#else
+TY_CONST int kLtsdLightLoopVertices = kLtsdLightMaxVertices;
+#endif
 
 // Where the N nodes z_i* of Eq. 15 go on each light's part of the camera ray (docs/ltsd.md, "Quadrature").
 TY_CONST int kLtsdPlacementMidpoint = 0;       // N equal partitions, the node at each one's middle (the paper)
@@ -210,7 +217,7 @@ TY_FUNC bool ltsdFacing(TY_IN(LtsdLight) light, TY_IN(vec3) p) {
 #endif
 }
 
-// Loops over a light's vertices run over the constant kLtsdLightMaxVertices with the count as a condition, and the
+// Loops over a light's vertices run over the constant kLtsdLightLoopVertices with the count as a condition, and the
 // next vertex is a select of two constant indices, so that, unrolled, no access indexes the light dynamically
 // (lavapipe serves dynamically indexed arrays from memory, lane by lane; see shared/ltsd.h).
 TY_FUNC vec4 ltsdNextLightVertex(TY_IN(LtsdLight) light, int i) {
@@ -223,7 +230,7 @@ TY_FUNC SphericalPolygon ltsdLocalPolygon(TY_IN(LtsdLight) light, TY_IN(vec3) p,
     SphericalPolygon poly;
     for (int i = 0; i < kLtsdMaxVertices; ++i) poly.v[i] = vec3(0.0f);
     poly.count = light.vertexCount;
-    for (int i = 0; i < kLtsdLightMaxVertices; ++i) {
+    for (int i = 0; i < kLtsdLightLoopVertices; ++i) {
         vec3 v = vec3(light.vertices[i]) - p;
         if (i < light.vertexCount) poly.v[i] = vec3(dot(v, x), dot(v, y), dot(v, z));
     }
@@ -236,7 +243,7 @@ TY_FUNC vec3 ltsdNearestPoint(TY_IN(LtsdLight) light, TY_IN(vec3) p) {
     bool inside = true;
     float best = kInfinity;
     vec3 nearest = q;
-    for (int i = 0; i < kLtsdLightMaxVertices; ++i) {
+    for (int i = 0; i < kLtsdLightLoopVertices; ++i) {
         if (i < light.vertexCount) {
             vec3 a = vec3(light.vertices[i]);
             vec3 b = vec3(ltsdNextLightVertex(light, i));
@@ -274,7 +281,7 @@ TY_FUNC vec3 ltsdMeanTransmittance(TY_IN(LtsdFrame) f, TY_IN(LtsdLight) light, T
     float weights = 0.0f;
     float h = abs(ltsdPlaneDistance(light, p));
     vec3 a = normalize(vec3(light.vertices[0]) - p);
-    for (int i = 1; i + 1 < kLtsdLightMaxVertices; ++i) {
+    for (int i = 1; i + 1 < kLtsdLightLoopVertices; ++i) {
         if (i + 1 < light.vertexCount) {
             vec3 b = normalize(vec3(light.vertices[i]) - p);
             vec3 c = normalize(vec3(light.vertices[i + 1]) - p);
@@ -574,14 +581,14 @@ struct LtsdRatioTerms {
 TY_FUNC float ltsdSampleLightPoint(TY_IN(LtsdLight) light, TY_IN(vec2) u, TY_IN(float) uTriangle, TY_OUT(vec3) q) {
     vec3 a = vec3(light.vertices[0]);
     float total = 0.0f;
-    for (int i = 1; i + 1 < kLtsdLightMaxVertices; ++i) {
+    for (int i = 1; i + 1 < kLtsdLightLoopVertices; ++i) {
         if (i + 1 < light.vertexCount)
             total += length(cross(vec3(light.vertices[i]) - a, vec3(light.vertices[i + 1]) - a));
     }
     float target = uTriangle * total, running = 0.0f;
     q = a;
     bool chosen = false;
-    for (int i = 1; i + 1 < kLtsdLightMaxVertices; ++i) {
+    for (int i = 1; i + 1 < kLtsdLightLoopVertices; ++i) {
         if (i + 1 < light.vertexCount && !chosen) {
             vec3 b = vec3(light.vertices[i]), c = vec3(light.vertices[i + 1]);
             running += length(cross(b - a, c - a));

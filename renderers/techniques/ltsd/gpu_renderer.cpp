@@ -39,17 +39,21 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, 
     const bool surfaces = scene.surfaces.triangleCount > 0;
     const bool ggx = surfaces && scene.anyGgx;
     const bool anisotropic = ggx && scene.anyAnisotropic;
-    const std::string key = std::to_string(f.lightCount) + "l-" + std::to_string(f.planeCount) + "p-" +
-                            std::to_string(f.placement) + "-" + std::to_string(f.transmittance) + "-s" +
-                            std::to_string(f.sMethod) + std::to_string(f.sLobe) + (medium ? "" : "-nomedium") +
-                            (surfaces ? "" : "-nosurfaces") + (scene.anyTwoSided ? "-twosided" : "") +
-                            (ggx ? "-ggx" : "") + (anisotropic ? "-aniso" : "") + (words ? "-w" : "") +
-                            (ratio ? "-ratio" : "") + (raster ? "-raster" : "");
+    // The lights' most vertices bound the kernel's polygon loops (kLtsdLoopVertices, shared/ltsd.h).
+    int vertices = 3;
+    for (const shader::LtsdLight& light : scene.lights)
+        vertices = std::max(vertices, light.vertexCount);
+    const std::string key =
+        std::to_string(f.lightCount) + "l" + std::to_string(vertices) + "v-" + std::to_string(f.planeCount) + "p-" +
+        std::to_string(f.placement) + "-" + std::to_string(f.transmittance) + "-s" + std::to_string(f.sMethod) +
+        std::to_string(f.sLobe) + (medium ? "" : "-nomedium") + (surfaces ? "" : "-nosurfaces") +
+        (scene.anyTwoSided ? "-twosided" : "") + (ggx ? "-ggx" : "") + (anisotropic ? "-aniso" : "") +
+        (words ? "-w" : "") + (ratio ? "-ratio" : "") + (raster ? "-raster" : "");
     std::string defines = "#define TY_LTSD_LIGHTS " + std::to_string(f.lightCount) + "\n#define TY_LTSD_PLANES " +
                           std::to_string(f.planeCount) + "\n#define TY_LTSD_PLACEMENT " + std::to_string(f.placement) +
                           "\n#define TY_LTSD_TRANSMITTANCE " + std::to_string(f.transmittance) +
                           "\n#define TY_LTSD_S_METHOD " + std::to_string(f.sMethod) + "\n#define TY_LTSD_S_LOBE " +
-                          std::to_string(f.sLobe) + "\n";
+                          std::to_string(f.sLobe) + "\n#define TY_LTSD_VERTICES " + std::to_string(vertices) + "\n";
     if (!medium) defines += "#define TY_LTSD_NO_MEDIUM\n";
     if (!surfaces) defines += "#define TY_LTSD_NO_SURFACES\n";
     if (!scene.anyTwoSided) defines += "#define TY_LTSD_ONE_SIDED\n";
@@ -111,6 +115,7 @@ GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, in
                                                    materials.get(),  &radiance,
                                                    ltcEntries.get(), raster ? primary.records : nodes.get()};
     gpu::SliceStats stats;
+    std::uint64_t& sliceSize = kernels_.sliceSize(k, ratio ? 64 : 1024);
     try {
         stats = gpu::runSliced(
             ctx, pixels,
@@ -121,7 +126,8 @@ GpuOutput GpuRenderer::run(const PreparedScene& scene, bool ratio, int width, in
                 k.record(cmd, bindings, &push, std::uint32_t((n + kGroupSize - 1) / kGroupSize));
                 gpu::computeToComputeBarrier(cmd);
             },
-            callbacks.cancel, 10.0, ratio ? 64 : 1024);
+            callbacks.cancel, 10.0, sliceSize);
+        sliceSize = stats.nextSlice;
     } catch (...) {
         k.resetDescriptors();
         throw;

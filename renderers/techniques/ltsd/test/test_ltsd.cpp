@@ -617,6 +617,27 @@ TEST_F(LtsdGpu, MatchesTheCpuPath) {
         EXPECT_LT(m.relMSE, 1e-8) << view;
         EXPECT_LT(std::abs(m.energyBias), 1e-2) << view;  // % (the polygon rule's acos, sin, cos differ most)
     }
+    // Lights of 3, 4 and 5 vertices, in fog and on the surfaces: the kernel's polygon loops stop at the lights' most
+    // vertices (TY_LTSD_VERTICES), the CPU's at kLtsdMaxVertices; a bound below the pentagon's 5 would drop its last
+    // edges from every integral over it.
+    {
+        const std::vector<std::string> shapes = {
+            R"(lights[+]={"name": "pentagon", "type": "area", "radiance": [4, 3, 2], "vertices": [[1.3, 2.9, 0.5],
+                [1.0927, 2.9, 0.7853], [0.7573, 2.9, 0.6763], [0.7573, 2.9, 0.3237], [1.0927, 2.9, 0.2147]]})",
+            R"(lights[+]={"name": "triangle", "type": "area", "radiance": [2, 3, 4], "vertices": [[-0.7, 2.9, 0.5],
+                [-1.15, 2.9, 0.7598], [-1.15, 2.9, 0.2402]]})",
+            R"(views[ltsd].lights=["ceiling panel", "pentagon", "triangle"])", R"(views[ltsd].media=["fog"])",
+            "views[ltsd].parameters.shadows=off"};
+        std::vector<std::string> gpuSet = shapes, cpuSet = shapes;
+        gpuSet.push_back("views[ltsd].parameters.device=gpu");
+        cpuSet.push_back("views[ltsd].parameters.device=cpu");
+        const RenderResult g = renderView(loadRoom(32, 24, gpuSet), "ltsd");
+        const RenderResult c = renderView(loadRoom(32, 24, cpuSet), "ltsd");
+        ASSERT_NE(g.image.metadata.at("device"), "cpu");
+        const Metrics m = computeMetrics(g.image, c.image);
+        EXPECT_LT(m.relMSE, 1e-8) << "lights of 3, 4 and 5 vertices";
+        EXPECT_LT(std::abs(m.energyBias), 1e-2) << "lights of 3, 4 and 5 vertices";
+    }
     const std::string ratio = "views[ltsd].parameters.shadows=ratio";
     const RenderResult g = renderView(loadRoom(32, 24, {kPlate, ratio, "views[ltsd].parameters.device=gpu"}), "ltsd", 16);
     const RenderResult c = renderView(loadRoom(32, 24, {kPlate, ratio, "views[ltsd].parameters.device=cpu"}), "ltsd", 16);

@@ -34,9 +34,17 @@ public:
     // The kernel, compiled on first use (its compile time added to `compileSeconds`) and kept for later calls.
     gpu::ComputeKernel& get(gpu::Context& context, const Kernel& kernel, double& compileSeconds);
     std::size_t size() const { return kernels_.size(); }
+    // Where the kernel's next gpu::runSliced starts: the slice size that its last run ended on (`initial` before any
+    // run), kept by the caller from SliceStats::nextSlice. A kernel run frame after frame then goes in a few slices
+    // of the target's length instead of growing each time from a cautious guess: on lavapipe every submission costs
+    // a wait and starts with idle cores.
+    std::uint64_t& sliceSize(const gpu::ComputeKernel& kernel, std::uint64_t initial) {
+        return sliceSizes_.try_emplace(&kernel, initial).first->second;
+    }
 
 private:
     std::map<std::string, std::unique_ptr<gpu::ComputeKernel>> kernels_;
+    std::map<const gpu::ComputeKernel*, std::uint64_t> sliceSizes_;
 };
 
 }  // namespace tyndall
