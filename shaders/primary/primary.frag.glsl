@@ -7,7 +7,11 @@
 #extension GL_GOOGLE_include_directive : require
 #include "primary_view.glsl"
 
-layout(location = 0) flat in uint triangleIndex;
+// The triangle (primary.vert.glsl): the BvhTriangle's fields, bit for bit.
+layout(location = 0) flat in vec3 triangleV0;
+layout(location = 1) flat in vec3 triangleE1;
+layout(location = 2) flat in vec3 triangleE2;
+layout(location = 3) flat in uint triangleId;
 layout(location = 0) out vec4 record;
 
 void main() {
@@ -17,7 +21,13 @@ void main() {
     vec2 point = primarySamplePoint(S, px, py, texel.x - px * S, texel.y - py * S);
     vec3 origin, dir;
     cameraRay(push.camera, point.x, point.y, origin, dir);
-    BvhTriangle tri = bvhTriangle(int(triangleIndex));
+    BvhTriangle tri;
+    tri.v0 = triangleV0;
+    tri.id = triangleId;
+    tri.e1 = triangleE1;
+    tri.pad1 = 0.0;
+    tri.e2 = triangleE2;
+    tri.pad2 = 0.0;
     float t;
     vec2 uv;
     if (bvhTriangleHit(tri, origin, dir, 0.0, kInfinity, t, uv)) {

@@ -6,7 +6,12 @@
 #extension GL_GOOGLE_include_directive : require
 #include "primary_view.glsl"
 
-layout(location = 0) flat out uint triangleIndex;
+// The triangle itself travels to the fragment stage as flat varyings: read here once per vertex, not once per fragment
+// (a storage-buffer read at a per-fragment index is a gather, lane by lane, on lavapipe: 2.8 of a 10 ms pass).
+layout(location = 0) flat out vec3 triangleV0;
+layout(location = 1) flat out vec3 triangleE1;
+layout(location = 2) flat out vec3 triangleE2;
+layout(location = 3) flat out uint triangleId;
 
 void main() {
     const uint index = uint(gl_VertexIndex) / 3u, corner = uint(gl_VertexIndex) % 3u;
@@ -18,5 +23,8 @@ void main() {
     float x = dot(d, cam.right) / (cam.tanHalfFovY * cam.aspect);
     float y = -dot(d, cam.up) / cam.tanHalfFovY;
     gl_Position = vec4(x, y, 0.0, w);
-    triangleIndex = index;
+    triangleV0 = tri.v0;
+    triangleE1 = tri.e1;
+    triangleE2 = tri.e2;
+    triangleId = tri.id;
 }
