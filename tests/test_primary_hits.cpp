@@ -153,6 +153,22 @@ TEST_F(PrimaryHitsTest, RasterMatchesTracedHitsOnEveryBundledProject) {
     EXPECT_GE(projectsWithSurfaces, 10) << "the bundled projects with surfaces";
 }
 
+// The surface variant a kernel is compiled with (GpuSurfaces::shaderDefines, shared/surface.h) leaves out the mesh
+// tangent only when no material is GGX; both kinds of scene occur among the bundled projects.
+TEST(GpuSurfaces, ShaderDefinesLeaveOutOnlyWhatTheSceneLacks) {
+    int withGgx = 0, withoutGgx = 0;
+    for (const std::string& path : bundledProjects()) {
+        const Project project = loadProject(techniqueCatalogue(), path);
+        const GpuSurfaces surfaces = prepareGpuSurfaces(project.scene, fs::path(path).parent_path().string());
+        const bool ggx = std::any_of(surfaces.materials.begin(), surfaces.materials.end(),
+                                     [](const shader::MaterialParams& m) { return m.kind == shader::kMaterialGgx; });
+        EXPECT_EQ(surfaces.shaderDefines(), ggx ? "" : "#define TY_SURFACE_NO_TANGENTS\n") << path;
+        ++(ggx ? withGgx : withoutGgx);
+    }
+    EXPECT_GT(withGgx, 0);
+    EXPECT_GT(withoutGgx, 0);
+}
+
 // A camera inside the geometry and looking along a wall: triangles behind the camera plane are clipped, and grazing
 // hits resolve like traced ones.
 TEST_F(PrimaryHitsTest, ACameraInsideTheSceneAndGrazingWalls) {

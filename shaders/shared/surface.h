@@ -2,6 +2,12 @@
 // The conventions are the reference's (docs/conventions.md, "Surfaces"): the geometric normal is flipped to face the
 // incoming ray, the interpolated shading normal (when the mesh has vertex normals) is flipped to the same side, and
 // light counts only from directions above both. The GGX tangent is the mesh's tangent projected onto the surface.
+//
+// Compile-time variant (GpuSurfaces::shaderDefines sets it from the scene; the CPU paths do not):
+//   TY_SURFACE_NO_TANGENTS  every material is diffuse: the frame's tangent is any one (buildFrame), not the mesh's
+// so that a kernel does not read what the scene lacks: each field read at a per-pixel triangle is a gather, lane by
+// lane, on lavapipe (the tangent: about 2 of the LTSD room's 15 ms kernel). The vertex normals are read under their
+// own condition (hasNormals), which costs nothing measurable where a triangle has none.
 #ifndef TY_SHARED_SURFACE_H
 #define TY_SHARED_SURFACE_H
 
@@ -43,6 +49,10 @@ TY_FUNC SurfaceFrame surfaceFrame(TY_IN(SurfaceTriangle) st, TY_IN(vec2) uv, TY_
         if (dot(ns, f.ng) < 0.0f) ns = -ns;
         f.n = ns;
     }
+#ifdef TY_SURFACE_NO_TANGENTS
+    buildFrame(f.n, f.t, f.b);
+    return f;
+#endif
     f.t = st.tangent - dot(st.tangent, f.n) * f.n;
     if (dot(f.t, f.t) < 1e-8f) {
         buildFrame(f.n, f.t, f.b);

@@ -15,8 +15,10 @@ namespace tyndall {
 
 GpuSurfaces prepareGpuSurfaces(const Scene& scene, const std::string& projectDir) {
     GpuSurfaces s;
-    for (const Material& m : scene.materials)
+    for (const Material& m : scene.materials) {
         s.materials.push_back(toMaterialParams(m));
+        if (s.materials.back().kind == shader::kMaterialGgx) s.anyGgx = true;
+    }
     if (s.materials.empty()) s.materials.push_back(shader::MaterialParams{});
     std::vector<TriangleMesh> meshes;
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -63,6 +65,12 @@ GpuSurfaces prepareGpuSurfaces(const Scene& scene, const std::string& projectDir
     // next step (issue 16).
     s.rayOffset = 1e-6f * std::max(1e-3f, glm::length(extent));
     return s;
+}
+
+std::string GpuSurfaces::shaderDefines() const {
+    std::string defines;
+    if (!anyGgx) defines += "#define TY_SURFACE_NO_TANGENTS\n";
+    return defines;
 }
 
 SurfaceGuides centreRayGuides(const GpuSurfaces& surfaces, const shader::CameraParams& camera, int width, int height) {

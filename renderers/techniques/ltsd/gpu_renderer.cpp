@@ -60,6 +60,7 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, 
     if (!ggx) defines += "#define TY_LTSD_NO_GGX\n";
     if (!anisotropic) defines += "#define TY_LTSD_NO_ANISOTROPIC\n";
     if (words) defines += "#define TY_BVH_WORDS\n";
+    defines += scene.surfaces.shaderDefines();
     if (ratio) defines += "#define TY_LTSD_RATIO\n";
     if (raster) defines += "#define TY_PRIMARY_HITS\n";
     return kernels_.get(*context_, {shaderPath(), defines, 10, std::uint32_t(sizeof(Push)), "ltsd_" + key},

@@ -47,6 +47,7 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene) {
                           std::to_string(f.lightSampling) + "\n";
     if (vertexTotal > 0) defines += "#define TY_RIS_VERTEX_TOTAL " + std::to_string(vertexTotal) + "\n";
     if (!surfaces) defines += "#define TY_RIS_NO_SURFACES\n";
+    defines += scene.surfaces.shaderDefines();
     if (scene.grey) defines += "#define TY_RIS_GREY\n";
     if (context_->device().shaderFloat64) defines += "#define TY_BVH_WORDS\n";
     return kernels_.get(*context_, {shaderPath(), defines, kBindings, std::uint32_t(sizeof(Push)), "volume_ris_" + key},

@@ -30,11 +30,12 @@ std::string shaderPath() {
 GpuRenderer::GpuRenderer() : context_(gpu::sharedContext()), accumulation_(*context_) {}
 
 gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, int planeTotal, bool box, int phaseKind,
-                                        int lightCount, bool surfaces, bool grey, bool gobos) {
+                                        int lightCount, const GpuSurfaces& surfaces, bool grey, bool gobos) {
+    const bool hasSurfaces = surfaces.triangleCount > 0;
     const int maxPlanes = planeCount <= 6 ? 6 : planeCount <= 8 ? 8 : shader::kWvdsMaxPlanes;
     const std::string key = std::to_string(estimator) + "-" + (box ? std::string("box") : std::to_string(planeCount)) +
                             "-" + std::to_string(planeTotal) + "-" + std::to_string(phaseKind) + "-" +
-                            std::to_string(lightCount) + (surfaces ? "" : "-nosurfaces") + (grey ? "-grey" : "") +
+                            std::to_string(lightCount) + (hasSurfaces ? "" : "-nosurfaces") + (grey ? "-grey" : "") +
                             (gobos ? "" : "-nogobos");
     std::string defines = "#define TY_WVDS_ESTIMATOR " + std::to_string(estimator) + "\n#define TY_WVDS_MAX_PLANES " +
                           std::to_string(maxPlanes) + "\n#define TY_PHASE_KIND " + std::to_string(phaseKind) +
@@ -42,7 +43,8 @@ gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, int plane
                           std::to_string(planeCount) + "\n";
     if (planeTotal > 0) defines += "#define TY_WVDS_PLANE_TOTAL " + std::to_string(planeTotal) + "\n";
     if (box) defines += "#define TY_WVDS_BOX\n";
-    if (!surfaces) defines += "#define TY_WVDS_NO_SURFACES\n";
+    if (!hasSurfaces) defines += "#define TY_WVDS_NO_SURFACES\n";
+    defines += surfaces.shaderDefines();
     if (grey) defines += "#define TY_WVDS_GREY\n";
     if (!gobos) defines += "#define TY_WVDS_NO_GOBOS\n";
     if (context_->device().shaderFloat64) defines += "#define TY_BVH_WORDS\n#define TY_ACCUMULATOR_WORDS\n";
@@ -53,8 +55,7 @@ gpu::ComputeKernel& GpuRenderer::kernel(int estimator, int planeCount, int plane
 void GpuRenderer::begin(const PreparedScene& scene, int width, int height, int stride, int ratioLights) {
     compileSeconds_ = 0.0;
     kernel_ = &kernel(scene.frame.estimator, scene.frame.planeCount, int(scene.planes.size()), scene.box,
-                      scene.frame.phase.kind, scene.frame.lightCount, scene.surfaces.triangleCount > 0,
-                      shader::wvdsGrey(scene.frame),
+                      scene.frame.phase.kind, scene.frame.lightCount, scene.surfaces, shader::wvdsGrey(scene.frame),
                       std::any_of(scene.lights.begin(), scene.lights.end(),
                                   [](const shader::WvdsLight& l) { return l.goboCount > 0; }));
     gpu::Context& ctx = *context_;

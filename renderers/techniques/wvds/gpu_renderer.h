@@ -37,7 +37,7 @@ private:
     // The variant for an estimator, a number of faces (or a box), a phase function, a number of lights and of
     // planes in all (the medium's and the gobos'), compiled on first use.
     gpu::ComputeKernel& kernel(int estimator, int planeCount, int planeTotal, bool box, int phaseKind, int lightCount,
-                               bool surfaces, bool grey, bool gobos);
+                               const GpuSurfaces& surfaces, bool grey, bool gobos);
 
     std::shared_ptr<gpu::Context> context_;
     KernelCache kernels_;                   // by variant

@@ -21,6 +21,11 @@ struct GpuSurfaces {
     gpu::Bvh bvh;
     glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};  // m, of every triangle (min > max when there is none)
     float rayOffset = 1e-4f;                     // m, offset of rays leaving surfaces: 1e-4 of the scene's size
+    bool anyGgx = false;                         // a material is GGX (which may read the mesh's tangent)
+
+    // The compile-time variants of shared/surface.h that these surfaces allow (GLSL #define lines, "" for none):
+    // TY_SURFACE_NO_TANGENTS when every material is diffuse.
+    std::string shaderDefines() const;
 };
 
 // Throws InputError for a mesh whose material is unknown or whose file cannot be read.
