@@ -24,8 +24,8 @@ LtsdTechnique::~LtsdTechnique() = default;
 std::vector<ParamInfo> LtsdTechnique::parameters() const {
     std::vector<ParamInfo> p;
     p.push_back(deviceParameter(
-        "Where it runs: the GPU (Vulkan compute) or the CPU; auto takes the GPU unless the only Vulkan device "
-        "is a software one (lavapipe), where the CPU path is faster"));
+        "Where it runs: the GPU (Vulkan compute) or the CPU; auto takes the GPU, lavapipe included (2.5-5x "
+        "faster there than the CPU path), and the CPU without Vulkan"));
     p.push_back({"nodes", ParamType::Int,
                  "N of Eq. 15: quadrature nodes of the air-light per light (and per side of a two-sided light's "
                  "plane); the paper's quality/speed slider",
@@ -208,7 +208,7 @@ RenderResult LtsdTechnique::render(const RenderRequest& request, const RenderCal
     times.mark("prepare");
     const int width = request.scene.camera.width, height = request.scene.camera.height;
 
-    const bool onGpu = runsOnGpu(settings.device, AutoDevice::HardwareGpu);
+    const bool onGpu = runsOnGpu(settings.device, AutoDevice::AnyGpu);
     const bool shadows = settings.shadows != ltsd::kShadowsOff && scene.surfaces.triangleCount > 0;
     const int ratioSamples =
         request.spp > 0 && request.spp < RenderRequest::kUnboundedSpp ? request.spp : settings.ratioSamples;
