@@ -147,6 +147,16 @@ void RenderScheduler::setOnScreen(const std::vector<bool>& onScreen) {
     if (!came.empty()) flushDirty();
 }
 
+void RenderScheduler::holdView(int view) {
+    const std::size_t v = std::size_t(view);
+    if (!pending_[v]) return;
+    trace("view %d: render off screen stopped", view);
+    service_->cancelView(ids_[v]);
+    generation_[v] = nextGeneration_++;  // an output already on its way is dropped
+    pending_[v] = false;
+    emit stopped(view, false);
+}
+
 void RenderScheduler::holdReference(int view) {
     const std::size_t v = std::size_t(view);
     if (!referencePending_[v]) return;
@@ -475,8 +485,11 @@ void RenderScheduler::flushDirty() {
     bool offScreenWait = false;
     for (auto it = dirtyViews_.begin(); it != dirtyViews_.end();) {
         const std::size_t v = std::size_t(*it);
-        // Off screen: once the edits pause (not while the animation plays: it waits for every view).
+        // Off screen: once the edits pause (not while the animation plays: it waits for every view). Its render of
+        // an older state, if one is in flight (started at the last pause), stops: it would take the cores from the
+        // views on screen for an image of a state nobody sees.
         if (!onScreen_[v] && !animating_ && !playing_) {
+            holdView(int(v));
             offScreenWait = true;
             ++it;
             continue;

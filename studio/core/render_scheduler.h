@@ -97,6 +97,7 @@ private:
     void renderStage(int view, int factor);
     // The task of a render, its job made; false (with `failed` emitted) when the job cannot be made.
     bool makeTask(int view, bool reference, int factor, RenderTask& task);
+    void holdView(int view);       // cancels the view's render in flight until the edits pause (off screen)
     void holdReference(int view);  // cancels the view's reference render until the play pauses
     // Every view on screen shows a full-resolution image of its state (a progressive one may go on refining).
     bool onScreenCaughtUp() const;

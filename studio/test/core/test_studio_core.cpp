@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 using namespace tyndall;
 using namespace tyndall::studio;
@@ -581,6 +582,32 @@ private slots:
             [&] { return std::any_of(starts.begin(), starts.end(), [](const auto& s) { return s.first == 2; }); }));
         const auto two = std::find_if(starts.begin(), starts.end(), [](const auto& s) { return s.first == 2; });
         QVERIFY2(two->second < 250, qPrintable(QString("%1 ms").arg(two->second)));  // the debounce is 300 ms
+        QVERIFY(waitFor([&] { return studio.settled(); }));
+        for (const ViewFrame& f : studio.frames())
+            QVERIFY2(f.image && f.imageState == f.state, qPrintable(f.name));
+
+        // A view off screen whose render (started at a pause) is in flight when the next edit comes stops it: it
+        // would take the cores from the view on screen for an image of a state nobody sees. It renders the new state
+        // once the edits pause again.
+        studio.showViewAlone(1);
+        std::set<int> inFlight;  // hidden views started and not finished
+        std::vector<int> stoppedViews;
+        connect(&studio.scheduler(), &RenderScheduler::started, this, [&](int view, bool reference, int) {
+            if (!reference && view != 1) inFlight.insert(view);
+        });
+        connect(&studio.scheduler(), &RenderScheduler::output, this, [&](const RenderOutput& out) {
+            if (!out.reference && out.final) inFlight.erase(out.view);
+        });
+        connect(&studio.scheduler(), &RenderScheduler::stopped, this, [&](int view, bool reference) {
+            if (!reference) stoppedViews.push_back(view);
+        });
+        QVERIFY(studio.session().editScene({"media[fog].phase.g=0.45"}, "g", &error));
+        QVERIFY(waitFor([&] { return !inFlight.empty(); }));
+        const std::set<int> running = inFlight;  // the scene edit below flushes synchronously: no output in between
+        QVERIFY(studio.session().editScene({"media[fog].phase.g=0.4"}, "g", &error));
+        for (int view : running)
+            QVERIFY2(std::count(stoppedViews.begin(), stoppedViews.end(), view) == 1,
+                     qPrintable(QString("view %1 kept rendering an old state off screen").arg(view)));
         QVERIFY(waitFor([&] { return studio.settled(); }));
         for (const ViewFrame& f : studio.frames())
             QVERIFY2(f.image && f.imageState == f.state, qPrintable(f.name));
