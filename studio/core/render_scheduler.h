@@ -68,8 +68,8 @@ public:
     bool playing() const { return playing_; }
     // Which views are on screen (the layout's; every one by default). A view off screen is not dragged at: after an
     // edit it renders once the edits pause (the references' debounce) and every view on screen shows a full image of
-    // its state, at full resolution, in RenderService's refinement class; a view that comes on screen with its state
-    // still unshown starts its progressive resolution at once.
+    // its state, at full resolution, in RenderService's refinement class (the next edit stops that render); a view
+    // that comes on screen with its state still unshown starts its progressive resolution at once.
     void setOnScreen(const std::vector<bool>& onScreen);
     // Every view shows (or is done with) the current state: the animation may advance.
     bool viewsCaughtUp() const;
