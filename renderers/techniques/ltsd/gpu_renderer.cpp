@@ -37,7 +37,7 @@ gpu::ComputeKernel& GpuRenderer::kernel(const PreparedScene& scene, bool ratio, 
     const bool words = context_->device().shaderFloat64;
     const bool medium = f.hasMedium != 0;
     const bool surfaces = scene.surfaces.triangleCount > 0;
-    const bool ggx = surfaces && scene.anyGgx;
+    const bool ggx = surfaces && scene.surfaces.anyGgx;
     const bool anisotropic = ggx && scene.anyAnisotropic;
     // The lights' most vertices bound the kernel's polygon loops (kLtsdLoopVertices, shared/ltsd.h).
     int vertices = 3;

@@ -24,12 +24,18 @@ LtsdTechnique::~LtsdTechnique() = default;
 std::vector<ParamInfo> LtsdTechnique::parameters() const {
     std::vector<ParamInfo> p;
     p.push_back(deviceParameter(
-        "Where it runs: the GPU (Vulkan compute) or the CPU; auto takes the GPU, lavapipe included (2.5-5x "
+        "Where it runs: the GPU (Vulkan compute) or the CPU; auto takes the GPU, lavapipe included (1.3-3.4x "
         "faster there than the CPU path), and the CPU without Vulkan"));
-    p.push_back({"nodes", ParamType::Int,
+    p.push_back({"nodes",
+                 ParamType::Int,
                  "N of Eq. 15: quadrature nodes of the air-light per light (and per side of a two-sided light's "
                  "plane); the paper's quality/speed slider",
-                 "", 1, 1024, std::int64_t(8), {}, true});
+                 "",
+                 1,
+                 1024,
+                 std::int64_t(8),
+                 {},
+                 true});
     p.push_back({"placement",
                  ParamType::Enum,
                  "Where the nodes go on each light's lit part of the ray: midpoint (N equal partitions, the paper), "

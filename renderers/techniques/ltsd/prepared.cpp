@@ -184,7 +184,6 @@ PreparedScene prepareScene(const Scene& scene, const Settings& settings, const s
     bool isotropicGgx = false;
     for (const Material& m : scene.materials) {
         if (m.kind != Material::Kind::GGX) continue;
-        p.anyGgx = true;
         if (m.alphaX != m.alphaY)
             p.anyAnisotropic = true;
         else

@@ -49,7 +49,6 @@ struct PreparedScene {
     double g = 0.0;         // the medium's HG (or mix) asymmetry (0 for the others)
     std::string tablePath;  // the LTSD table the frame's entries come from ("" without a medium, with the accurate S,
                             // or exact: isotropic, eddington)
-    bool anyGgx = false;                       // a GGX material
     bool anyAnisotropic = false;               // an anisotropic GGX material (alphaX != alphaY)
     std::vector<shader::LtcEntry> ltcEntries;  // the LTC GGX tables' entries (isotropic, then anisotropic from
                                                // frame.ltcAnisoBase); a dummy without GGX
